@@ -1,0 +1,56 @@
+# tactile_search: `make demo` and `make test` are all a new machine needs (they create .venv).
+# `make help` lists the targets.
+
+SHELL := /bin/bash
+VENV := .venv
+PY := $(VENV)/bin/python
+PIP := $(VENV)/bin/pip
+export VIRTUAL_ENV := $(abspath $(VENV))
+export PATH := $(abspath $(VENV))/bin:$(PATH)
+
+.DEFAULT_GOAL := help
+.PHONY: help demo test build build-dev bench lint format clean
+
+help: ## list the targets
+	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  %-10s %s\n", $$1, $$2}'
+
+$(VENV)/bin/python:
+	python3 -m venv $(VENV)
+	$(PIP) install --quiet --upgrade pip "maturin>=1.16,<2"
+
+# One stamp per extra, so a second run installs nothing new.
+$(VENV)/.extra-%: pyproject.toml | $(VENV)/bin/python
+	$(PIP) install --quiet "maturin>=1.16,<2" $$($(PY) -c "import tomllib; d = tomllib.load(open('pyproject.toml', 'rb'))['project']; print(' '.join(d['dependencies'] + d['optional-dependencies']['$*']))")
+	touch $@
+
+build: $(VENV)/.extra-plots ## compile the Rust core (release) and install the package into .venv
+	$(VENV)/bin/maturin develop --release --quiet
+
+build-dev: $(VENV)/.extra-dev build ## build, plus the test and lint tools
+
+demo: build ## build, install into .venv and run the demo (writes results/demo_gpis.png)
+	$(PY) -m tactile_search.demo --out results/demo_gpis.png
+
+test: build-dev lint ## cargo fmt/clippy, ruff, cargo test and pytest
+	cargo test --workspace
+	$(PY) -m pytest -q
+
+bench: build-dev ## criterion benchmarks and the Python benchmark scripts (prints figures)
+	cargo bench -p env_core --bench gpis_append
+	$(PY) benchmarks/gpis_append.py --out results/gpis_append.png
+
+lint: $(VENV)/.extra-dev ## cargo fmt --check, clippy -D warnings, ruff check and format --check
+	cargo fmt --all -- --check
+	cargo clippy --workspace --all-targets -- -D warnings
+	cargo clippy --workspace --all-targets --features python -- -D warnings
+	$(VENV)/bin/ruff check .
+	$(VENV)/bin/ruff format --check .
+
+format: $(VENV)/.extra-dev ## apply cargo fmt and ruff (format and fixes)
+	cargo fmt --all
+	$(VENV)/bin/ruff check --fix .
+	$(VENV)/bin/ruff format .
+
+clean: ## remove build products and the virtual environment
+	cargo clean
+	rm -rf $(VENV) results

@@ -1,0 +1,21 @@
+//! Every conversion of a core error to a Python exception, in one place.
+
+use pyo3::exceptions::PyValueError;
+use pyo3::PyErr;
+
+use crate::gpis::GpisError;
+
+impl From<GpisError> for PyErr {
+    fn from(error: GpisError) -> Self {
+        // Every GPIS error is a bad argument value (shape, bounds, noise, capacity), and its
+        // message already says what was expected and what came.
+        PyValueError::new_err(error.to_string())
+    }
+}
+
+/// A `ValueError` for an array whose shape is not the one expected.
+pub(crate) fn wrong_shape(what: &str, expected: &str, got: &[usize]) -> PyErr {
+    PyValueError::new_err(format!(
+        "{what} must have shape {expected}, got shape {got:?}"
+    ))
+}

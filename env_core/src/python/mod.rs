@@ -1,0 +1,16 @@
+//! pyo3 bindings: the compiled module `tactile_search._core`. Thin: convert, release the
+//! GIL, call the pure-Rust core, convert back. Errors are mapped in [`errors`].
+
+mod errors;
+mod gpis;
+
+use pyo3::prelude::*;
+
+/// The compiled core of `tactile_search`.
+#[pymodule]
+#[pyo3(name = "_core")]
+fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<gpis::PyGpis>()?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}
