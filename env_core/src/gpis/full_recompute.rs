@@ -5,7 +5,7 @@
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch};
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
-use faer::{Mat, Par};
+use faer::{Mat, MatRef, Par};
 
 use super::kernel::{RowKind, ThinPlateKernel};
 use super::observation::Row;
@@ -52,33 +52,43 @@ pub fn full_posterior(
     )
     .expect("K + Σ of accepted rows is positive definite");
 
-    let mut beta = Mat::from_fn(n, 1, |i, _| {
-        let prior = if rows[i].kind == RowKind::Value {
-            prior_mean
-        } else {
-            0.0
-        };
-        observed[i] - prior
-    });
+    let mut beta = Mat::from_fn(n, 1, |i, _| observed[i] - rows[i].prior_mean(prior_mean));
     solve_lower_triangular_in_place(factor.as_ref(), beta.as_mut(), Par::Seq);
     let mut cache = Mat::from_fn(n, cells.len(), |i, cell| {
         kernel.covariance(rows[i].point, rows[i].kind, cells[cell], RowKind::Value)
     });
     solve_lower_triangular_in_place(factor.as_ref(), cache.as_mut(), Par::Seq);
 
-    let prior_variance = kernel.prior_variance(RowKind::Value);
-    let mut mean = Vec::with_capacity(cells.len());
-    let mut variance = Vec::with_capacity(cells.len());
-    for cell in 0..cells.len() {
-        let column = cache.col(cell);
+    let beta: Vec<f64> = beta.col(0).iter().copied().collect();
+    let (mean, variance) = posterior_from_solved(
+        cache.as_ref(),
+        &beta,
+        prior_mean,
+        kernel.prior_variance(RowKind::Value),
+    );
+    GridPosterior { mean, variance }
+}
+
+/// Mean m + wᵀβ and variance ψ³ − |w|² (clamped at 0) for each column w of
+/// `solved` = L⁻¹ K*ᵀ (n × M). Cost O(n·M).
+pub(crate) fn posterior_from_solved(
+    solved: MatRef<'_, f64>,
+    beta: &[f64],
+    prior_mean: f64,
+    prior_variance: f64,
+) -> (Vec<f64>, Vec<f64>) {
+    let columns = solved.ncols();
+    let mut mean = Vec::with_capacity(columns);
+    let mut variance = Vec::with_capacity(columns);
+    for c in 0..columns {
         let mut explained = 0.0;
         let mut reduction = 0.0;
-        for (i, &v) in column.iter().enumerate() {
-            explained += v * beta[(i, 0)];
+        for (&v, &b) in solved.col(c).iter().zip(beta) {
+            explained += v * b;
             reduction += v * v;
         }
         mean.push(prior_mean + explained);
         variance.push((prior_variance - reduction).max(0.0));
     }
-    GridPosterior { mean, variance }
+    (mean, variance)
 }

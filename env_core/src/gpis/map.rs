@@ -27,7 +27,7 @@ use faer::linalg::triangular_solve::{
 use faer::{Accum, Mat, Par};
 
 use super::error::GpisError;
-use super::full_recompute::{full_posterior, GridPosterior};
+use super::full_recompute::{full_posterior, posterior_from_solved, GridPosterior};
 use super::grid::GridSpec;
 use super::kernel::{RowKind, ThinPlateKernel};
 use super::observation::{noise_variance, Observation, Row};
@@ -318,14 +318,6 @@ impl Gpis {
         Ok(report)
     }
 
-    /// Prior mean of a row: the constant for values, 0 for gradient components.
-    fn prior_of(&self, row: &Row) -> f64 {
-        match row.kind {
-            RowKind::Value => self.prior_mean,
-            RowKind::GradX | RowKind::GradY => 0.0,
-        }
-    }
-
     /// Grows the factor's and the cache's storage (by doubling) to hold `rows` rows.
     fn reserve_rows(&mut self, rows: usize) {
         if rows <= self.capacity {
@@ -411,7 +403,7 @@ impl Gpis {
         let mut beta_new = Mat::from_fn(kept, 1, |c, _| {
             let row = &new_rows[accepted[c]];
             let explained: f64 = (0..n).map(|i| w_kept[(i, c)] * self.beta[i]).sum();
-            new_observed[accepted[c]] - self.prior_of(row) - explained
+            new_observed[accepted[c]] - row.prior_mean(self.prior_mean) - explained
         });
         solve_lower_triangular_in_place(factor.as_ref(), beta_new.as_mut(), Par::Seq);
 
@@ -491,20 +483,12 @@ impl Gpis {
             kernel.covariance(row.point, row.kind, points[c], RowKind::Value)
         });
         solve_lower_triangular_in_place(self.chol.as_ref(), solved.as_mut(), Par::Seq);
-        let prior_variance = kernel.prior_variance(RowKind::Value);
-        let mut mean = Vec::with_capacity(m);
-        let mut variance = Vec::with_capacity(m);
-        for c in 0..m {
-            let column = solved.col(c);
-            let mut explained = 0.0;
-            let mut reduction = 0.0;
-            for (i, &v) in column.iter().enumerate() {
-                explained += v * self.beta[i];
-                reduction += v * v;
-            }
-            mean.push(self.prior_mean + explained);
-            variance.push((prior_variance - reduction).max(0.0));
-        }
+        let (mean, variance) = posterior_from_solved(
+            solved.as_ref(),
+            &self.beta,
+            self.prior_mean,
+            kernel.prior_variance(RowKind::Value),
+        );
         // α = L⁻ᵀ β = (K + Σ)⁻¹ (y − m); ∇E[f](x) = Σᵢ cov(∇f(x), rowᵢ) αᵢ.
         let mut alpha = Mat::from_fn(n, 1, |i, _| self.beta[i]);
         solve_upper_triangular_in_place(self.chol.transpose(), alpha.as_mut(), Par::Seq);

@@ -16,6 +16,16 @@ pub struct Row {
     pub kind: RowKind,
 }
 
+impl Row {
+    /// Prior mean of this row: the map's constant for a value, 0 for a gradient component.
+    pub fn prior_mean(&self, constant: f64) -> f64 {
+        match self.kind {
+            RowKind::Value => constant,
+            RowKind::GradX | RowKind::GradY => 0.0,
+        }
+    }
+}
+
 /// A validated observation. Build with [`Observation::value`] or [`Observation::contact`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Observation {
