@@ -102,3 +102,28 @@ fn same_inputs_give_bitwise_identical_maps() {
     assert_eq!(bits(a.mean_grid()), bits(b.mean_grid()));
     assert_eq!(bits(a.variance_grid()), bits(b.variance_grid()));
 }
+
+#[test]
+fn a_clone_grows_like_its_original_and_independently_of_it() {
+    let mut rng = common::rng(13);
+    let mut original = common::shelf_map((16, 16), 0.0, 1000);
+    let first: Vec<_> = (0..70)
+        .map(|i| common::random_observation(&mut rng, i))
+        .collect();
+    original.add(&first, None).unwrap();
+    let mut copy = original.clone();
+    let before = original.mean_grid().to_vec();
+    let more: Vec<_> = (0..40)
+        .map(|i| common::random_observation(&mut rng, i))
+        .collect();
+    copy.add(&more, None).unwrap();
+    assert_eq!(
+        original.mean_grid(),
+        &before[..],
+        "the original is untouched"
+    );
+    original.add(&more, None).unwrap();
+    assert_eq!(original.n_rows(), copy.n_rows());
+    assert_eq!(original.mean_grid(), copy.mean_grid());
+    assert_eq!(original.variance_grid(), copy.variance_grid());
+}

