@@ -24,7 +24,7 @@ $(VENV)/.extra-%: pyproject.toml | $(VENV)/bin/python
 	touch $@
 
 build: $(VENV)/.extra-plots ## compile the Rust core (release) and install the package into .venv
-	$(VENV)/bin/maturin develop --release --quiet
+	PIP_QUIET=1 $(VENV)/bin/maturin develop --release --quiet
 
 build-dev: $(VENV)/.extra-dev build ## build, plus the test and lint tools
 

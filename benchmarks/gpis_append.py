@@ -36,6 +36,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+
 from tactile_search import Gpis
 
 BOUNDS = ((-0.3, 0.3), (0.0, 0.3))

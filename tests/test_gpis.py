@@ -6,6 +6,7 @@ import threading
 
 import numpy as np
 import pytest
+
 from tactile_search import Gpis
 
 BOUNDS = ((-0.3, 0.3), (0.0, 0.3))
