@@ -231,3 +231,27 @@ def test_bad_contacts_raise_clear_errors(
 def test_bad_prediction_points_raise_value_error(gpis: Gpis, points: list, message: str) -> None:
     with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)")):
         gpis.predict(points)
+
+
+def test_circle_prior_adds_four_contacts_with_radial_normals(gpis: Gpis) -> None:
+    assert gpis.add_circle_prior((0.0, 0.15), diameter=0.03) == 12
+    mean, _, gradient = gpis.predict([[0.0, 0.15], [0.015, 0.15]], return_gradient=True)
+    assert mean[0] < 0.0
+    np.testing.assert_allclose(gradient[1], [1.0, 0.0], atol=0.05)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "message"),
+    [
+        ({"centre": (0.0, 0.15), "diameter": -0.03}, ValueError, "diameter must be at least 0"),
+        ({"centre": (0.0, 0.15), "diameter": 0.0}, ValueError, "diameter must be finite and"),
+        ({"centre": (0.0,)}, ValueError, r"centre must have shape \(2,\)"),
+        ({"centre": (0.29, 0.15), "diameter": 0.1}, ValueError, "outside the map bounds"),
+    ],
+)
+def test_bad_circle_prior_raises(
+    gpis: Gpis, kwargs: dict, error: type[Exception], message: str
+) -> None:
+    with pytest.raises(error, match=message):
+        gpis.add_circle_prior(**kwargs)
+    assert gpis.n_rows == 0

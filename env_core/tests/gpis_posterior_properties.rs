@@ -240,3 +240,40 @@ fn clear_returns_the_map_to_its_prior() {
     let full = map.recompute_from_scratch();
     assert!(common::max_abs_difference(map.mean_grid(), &full.mean) <= 1e-9);
 }
+
+#[test]
+fn circle_prior_makes_its_centre_inside_and_its_rim_a_surface() {
+    let mut map = common::shelf_map((16, 16), 0.02, 100);
+    let centre = [0.05, 0.15];
+    let report = map.add_circle_prior(centre, 0.03, 0.0, 0.0).unwrap();
+    assert_eq!(report.added_rows, 12);
+    let rim = [centre[0], centre[1] + 0.015];
+    let far = [0.25, 0.02];
+    let prediction = map.predict(&[centre, rim, far]).unwrap();
+    assert!(
+        prediction.mean[0] < 0.0,
+        "centre reads inside: {}",
+        prediction.mean[0]
+    );
+    assert!(
+        prediction.mean[1].abs() < 1e-8,
+        "rim is a surface: {}",
+        prediction.mean[1]
+    );
+    assert!(
+        prediction.mean[2] > 0.0,
+        "far away reads free: {}",
+        prediction.mean[2]
+    );
+    assert!(
+        prediction.gradient[1][1] > 0.99,
+        "normal at the top of the rim points up"
+    );
+    assert!(matches!(
+        map.add_circle_prior(centre, 0.0, 0.0, 0.0),
+        Err(GpisError::NegativeParameter {
+            what: "diameter",
+            ..
+        })
+    ));
+}

@@ -27,6 +27,13 @@ class GpisCore:
         normal_noise_std: float,
         skip_below_variance: float | None,
     ) -> int: ...
+    def add_circle_prior(
+        self,
+        centre: tuple[float, float],
+        diameter: float,
+        noise_std: float,
+        normal_noise_std: float,
+    ) -> int: ...
     def predict(
         self, points: NDArray[np.float64]
     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...

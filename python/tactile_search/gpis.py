@@ -127,6 +127,29 @@ class Gpis:
             else as_real("skip_below_variance", skip_below_variance, minimum=0.0),
         )
 
+    def add_circle_prior(
+        self,
+        centre: ArrayLike,
+        diameter: float = 0.03,
+        noise_std: float = 0.0005,
+        normal_noise_std: float = 0.05,
+    ) -> int:
+        """Adds the paper's circle prior: four contacts equally spaced on a circle.
+
+        The contacts sit at angles 0, 90, 180 and 270 degrees on a circle of ``diameter``
+        around ``centre`` (x, y), each with its outward radial normal, so f is shaped
+        (negative inside) before any touch. The paper uses 0.03 m; a circle much larger than
+        the object distorts the shape (its Fig. 8). The four points must lie inside the
+        bounds. Returns the number of rows added (12).
+        """
+        centre = as_vector("centre", centre, 2)
+        return self._core.add_circle_prior(
+            (float(centre[0]), float(centre[1])),
+            as_real("diameter", diameter, minimum=0.0),
+            as_real("noise_std", noise_std, minimum=0.0),
+            as_real("normal_noise_std", normal_noise_std, minimum=0.0),
+        )
+
     def predict(
         self, points: ArrayLike, return_gradient: bool = False
     ) -> (

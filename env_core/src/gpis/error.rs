@@ -43,8 +43,9 @@ pub enum GpisError {
         /// Value given.
         value: f64,
     },
-    /// A noise level or threshold that must be non-negative was negative.
-    #[error("{what} must be finite and non-negative, got {value}")]
+    /// A noise level, threshold or size that must be non-negative (a diameter: positive)
+    /// was not.
+    #[error("{what} must be finite and non-negative (a diameter: positive), got {value}")]
     NegativeParameter {
         /// Which parameter.
         what: &'static str,

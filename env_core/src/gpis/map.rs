@@ -300,6 +300,24 @@ impl Gpis {
         self.add(&observations, skip_below_variance)
     }
 
+    /// Adds the paper's circle prior: four contacts on a circle of `diameter` around
+    /// `centre` with outward normals (see [`Observation::circle_prior`]).
+    pub fn add_circle_prior(
+        &mut self,
+        centre: [f64; 2],
+        diameter: f64,
+        noise_std: f64,
+        normal_noise_std: f64,
+    ) -> Result<AddReport, GpisError> {
+        let observations = Observation::circle_prior(
+            centre,
+            diameter,
+            noise_variance("noise_std", noise_std)?,
+            noise_variance("normal_noise_std", normal_noise_std)?,
+        )?;
+        self.add(&observations, None)
+    }
+
     /// Adds observations in order. Nothing is added if any point is outside the bounds, the
     /// threshold is invalid, or the rows could exceed `max_rows` (checked before any work,
     /// counting every row as if none were skipped).

@@ -116,6 +116,35 @@ impl Observation {
         })
     }
 
+    /// The paper's circle prior (§IV.A.3): four contacts equally spaced on a circle of the
+    /// given diameter, each with its outward radial normal. It shapes f (negative inside the
+    /// circle) before any touch, at the price of "faking data": a circle much larger than
+    /// the object distorts the estimate (the paper's Fig. 8).
+    pub fn circle_prior(
+        centre: [f64; 2],
+        diameter: f64,
+        noise_var: f64,
+        normal_noise_var: f64,
+    ) -> Result<[Self; 4], GpisError> {
+        if !(diameter.is_finite() && diameter > 0.0) {
+            return Err(GpisError::NegativeParameter {
+                what: "diameter",
+                value: diameter,
+            });
+        }
+        let radius = diameter / 2.0;
+        let contact = |index: usize| {
+            let angle = index as f64 * std::f64::consts::FRAC_PI_2;
+            let normal = [angle.cos(), angle.sin()];
+            let point = [
+                centre[0] + radius * normal[0],
+                centre[1] + radius * normal[1],
+            ];
+            Self::contact(index, point, normal, noise_var, normal_noise_var)
+        };
+        Ok([contact(0)?, contact(1)?, contact(2)?, contact(3)?])
+    }
+
     /// Where the observation was made.
     pub fn point(&self) -> [f64; 2] {
         match *self {

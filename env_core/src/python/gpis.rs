@@ -95,6 +95,22 @@ impl PyGpis {
         Ok(report.added_rows)
     }
 
+    /// Adds the paper's circle prior (four contacts on a circle); returns rows added.
+    #[pyo3(signature = (centre, diameter, noise_std, normal_noise_std))]
+    fn add_circle_prior(
+        &mut self,
+        centre: [f64; 2],
+        diameter: f64,
+        noise_std: f64,
+        normal_noise_std: f64,
+    ) -> PyResult<usize> {
+        let report = self
+            .inner
+            .add_circle_prior(centre, diameter, noise_std, normal_noise_std)?;
+        self.last_report = report;
+        Ok(report.added_rows)
+    }
+
     /// Posterior (mean, variance, mean gradient) at (M, 2) points.
     #[allow(clippy::type_complexity)]
     fn predict<'py>(
