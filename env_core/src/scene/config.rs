@@ -122,7 +122,7 @@ impl Default for LayoutConfig {
             target_min_depth: 0.17,
             min_gap: 0.008,
             wall_gap: 0.008,
-            corridor_width: 0.05,
+            corridor_width: 0.07,
             corridor_clearance: 0.005,
             max_attempts: 2000,
         }
@@ -190,7 +190,10 @@ pub struct HandConfig {
     pub finger_mass: f64,
     /// Friction coefficient of the finger.
     pub finger_friction: f64,
-    /// Joint stiffness rendered by the finger motor, N·m/rad.
+    /// Joint stiffness rendered by the finger motor, N·m/rad. The contact force is
+    /// `stiffness · deflection / lever` (lever: joint to contact), so it grows as a contact
+    /// slides towards the joint; the default keeps it below what slides or tips a 0.1 kg jar
+    /// for contacts beyond about a quarter of the finger.
     pub finger_stiffness: f64,
     /// Joint damping rendered by the finger motor, N·m·s/rad.
     pub finger_damping: f64,
@@ -217,8 +220,8 @@ impl Default for HandConfig {
             finger_half_height: 0.01,
             finger_mass: 0.02,
             finger_friction: 0.3,
-            finger_stiffness: 0.05,
-            finger_damping: 0.003,
+            finger_stiffness: 0.02,
+            finger_damping: 0.0018,
             finger_limit: 1.2,
             rigid_finger: false,
             wall_margin: 0.001,
