@@ -170,3 +170,11 @@ def test_bad_arguments_raise() -> None:
         s.step(dx="left")  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="non-negative"):
         s.idle(-3)
+
+
+@pytest.mark.parametrize("key", Scene.config_keys())
+def test_every_config_key_is_wired_and_type_checked(key: str) -> None:
+    # A known key given an object of the wrong kind is a TypeError naming the key (an unknown
+    # key would be a ValueError).
+    with pytest.raises(TypeError, match=key):
+        Scene(seed=0, **{key: object()})

@@ -52,7 +52,12 @@ const KEYS: &[&str] = &[
     "max_step_translation",
     "max_step_yaw",
     "workspace",
+    "wrist_half_extent",
+    "arm_length",
+    "arm_half_width",
     "finger_length",
+    "finger_half_thickness",
+    "finger_half_height",
     "finger_mass",
     "finger_friction",
     "finger_stiffness",
@@ -190,7 +195,12 @@ fn apply(config: &mut SceneConfig, key: &str, value: &Bound<'_, PyAny>) -> PyRes
             let [x0, x1, y0, y1] = floats::<4>(key, value)?;
             c.hand.workspace = [[x0, x1], [y0, y1]];
         }
+        "wrist_half_extent" => c.hand.wrist_half_extent = float(key, value)?,
+        "arm_length" => c.hand.arm_length = float(key, value)?,
+        "arm_half_width" => c.hand.arm_half_width = float(key, value)?,
         "finger_length" => c.hand.finger_length = float(key, value)?,
+        "finger_half_thickness" => c.hand.finger_half_thickness = float(key, value)?,
+        "finger_half_height" => c.hand.finger_half_height = float(key, value)?,
         "finger_mass" => c.hand.finger_mass = float(key, value)?,
         "finger_friction" => c.hand.finger_friction = float(key, value)?,
         "finger_stiffness" => c.hand.finger_stiffness = float(key, value)?,
