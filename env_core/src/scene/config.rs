@@ -186,7 +186,10 @@ pub struct HandConfig {
     pub finger_half_thickness: f64,
     /// Half height (z) of the finger, m.
     pub finger_half_height: f64,
-    /// Finger mass, kg.
+    /// Finger mass, kg: the *rendered* inertia, light because the deflection sensed while
+    /// the wrist starts or stops is inertial (about 0.1 rad after a jump to the maximum
+    /// command at the defaults, gone within ~0.1 s); it scales with the square root of
+    /// mass / stiffness.
     pub finger_mass: f64,
     /// Friction coefficient of the finger.
     pub finger_friction: f64,
@@ -195,7 +198,8 @@ pub struct HandConfig {
     /// slides towards the joint; the default keeps it below what slides or tips a 0.1 kg jar
     /// for contacts beyond about a quarter of the finger.
     pub finger_stiffness: f64,
-    /// Joint damping rendered by the finger motor, N·m·s/rad.
+    /// Joint damping rendered by the finger motor, N·m·s/rad (the default is about 0.8 of
+    /// critical for the default mass and stiffness).
     pub finger_damping: f64,
     /// Joint limit: the finger deflects within `[-limit, limit]`, rad.
     pub finger_limit: f64,
@@ -218,10 +222,10 @@ impl Default for HandConfig {
             finger_length: 0.10,
             finger_half_thickness: 0.003,
             finger_half_height: 0.01,
-            finger_mass: 0.02,
+            finger_mass: 0.005,
             finger_friction: 0.3,
             finger_stiffness: 0.02,
-            finger_damping: 0.0018,
+            finger_damping: 0.0009,
             finger_limit: 1.2,
             rigid_finger: false,
             wall_margin: 0.001,
