@@ -126,3 +126,44 @@ fn slice_noise_has_the_configured_standard_deviation() {
     let clean = Scene::new(config, 0).expect("scene builds");
     assert_eq!(clean.first_look().slice, clean.first_look().slice_clean);
 }
+
+#[test]
+fn the_hand_never_occludes_the_camera() {
+    // The camera's look is taken before the hand reaches in; a later capture with the hand
+    // deep in the cupboard still sees only walls and jars.
+    let mut scene = Scene::new(SceneConfig::default(), 2).expect("scene builds");
+    let corridor = scene.layout().corridor.expect("corridor");
+    let x = 0.5 * (corridor.x[0] + corridor.x[1]);
+    for k in 0..70 {
+        // Line up with the corridor outside the cupboard, then go straight in.
+        let pose = scene.hand_pose();
+        let command = env_core::scene::HandCommand {
+            dx: (x - pose.x).clamp(-0.01, 0.01),
+            dy: if k < 30 { 0.0 } else { 0.005 },
+            dyaw: 0.0,
+        };
+        scene.step(command).expect("finite");
+    }
+    assert!(
+        scene.hand_pose().y > 0.05,
+        "hand not inside: {:?}",
+        scene.hand_pose()
+    );
+    let look = scene.capture();
+    let jars: Vec<JarGeom> = scene.jar_states().iter().map(JarGeom::of).collect();
+    let walls = scene.cupboard().walls();
+    for (p, &label) in look.cloud.iter().zip(&look.cloud_labels) {
+        let distance = if label >= 0 {
+            jars[label as usize].sdf(*p).abs()
+        } else {
+            walls
+                .iter()
+                .map(|w| box_sdf(w, *p).abs())
+                .fold(f64::INFINITY, f64::min)
+        };
+        assert!(
+            distance < 1e-3,
+            "point {p:?} (label {label}) is {distance} m off any surface"
+        );
+    }
+}
