@@ -37,6 +37,7 @@ test: build-dev lint ## cargo fmt/clippy, ruff, cargo test and pytest
 
 bench: build-dev ## criterion benchmarks and the Python benchmark scripts (prints figures)
 	cargo bench -p env_core --bench gpis_append
+	cargo bench -p env_core --bench scene
 	$(PY) benchmarks/gpis_append.py --out results/gpis_append.png
 
 lint: $(VENV)/.extra-dev ## cargo fmt --check, clippy -D warnings, ruff check and format --check

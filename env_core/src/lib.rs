@@ -2,11 +2,14 @@
 //!
 //! - [`gpis`]: the Gaussian Process Implicit Surface map (thin-plate kernel, value and
 //!   gradient observations, exact incremental posterior on a grid).
+//! - [`scene`]: the cupboard scene in rapier3d (jars with a hidden target, depth camera,
+//!   Exploratory Hand with a compliant finger, touch readings, disturbance).
 //!
 //! The pyo3 bindings live in the `python` module behind the `python` cargo feature, so that
 //! `cargo test` builds and runs without a Python interpreter.
 
 pub mod gpis;
+pub mod scene;
 
 #[cfg(feature = "python")]
 mod python;

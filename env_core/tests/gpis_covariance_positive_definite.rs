@@ -1,7 +1,7 @@
 //! With ψ fixed at 1.5 × the domain's diagonal, the joint value + gradient covariance is
 //! positive definite on random point sets; with ψ below the largest distance it is not.
 
-mod common;
+mod gpis_fixtures;
 
 use env_core::gpis::{Gpis, GpisConfig, GpisError, Observation, RowKind, ThinPlateKernel};
 use faer::{Mat, Side};
@@ -26,10 +26,10 @@ fn smallest_eigenvalue(matrix: &Mat<f64>) -> f64 {
 
 /// Random contacts and values at points at least 2 cm apart.
 fn spread_observations(seed: u64, count: usize) -> Vec<Observation> {
-    let mut rng = common::rng(seed);
+    let mut rng = gpis_fixtures::rng(seed);
     let mut points: Vec<[f64; 2]> = Vec::new();
     while points.len() < count {
-        let p = common::random_point(&mut rng);
+        let p = gpis_fixtures::random_point(&mut rng);
         if points
             .iter()
             .all(|q| (p[0] - q[0]).hypot(p[1] - q[1]) > 0.02)
@@ -42,7 +42,8 @@ fn spread_observations(seed: u64, count: usize) -> Vec<Observation> {
         .enumerate()
         .map(|(i, &p)| {
             if i % 2 == 0 {
-                Observation::contact(i, p, common::random_normal(&mut rng), 0.0, 0.0).unwrap()
+                Observation::contact(i, p, gpis_fixtures::random_normal(&mut rng), 0.0, 0.0)
+                    .unwrap()
             } else {
                 Observation::value(i, p, 0.0, 0.0).unwrap()
             }
@@ -52,7 +53,7 @@ fn spread_observations(seed: u64, count: usize) -> Vec<Observation> {
 
 #[test]
 fn joint_covariance_is_positive_definite_with_the_default_psi() {
-    let map = common::shelf_map((8, 8), 0.0, 16);
+    let map = gpis_fixtures::shelf_map((8, 8), 0.0, 16);
     let kernel = map.kernel();
     for seed in 0..20 {
         let observations = spread_observations(seed, 12);
@@ -79,7 +80,7 @@ fn joint_covariance_can_be_indefinite_when_psi_is_below_the_largest_distance() {
 #[test]
 fn psi_below_the_diagonal_is_refused() {
     let result = Gpis::new(GpisConfig {
-        bounds: common::BOUNDS,
+        bounds: gpis_fixtures::BOUNDS,
         shape: (8, 8),
         psi: Some(0.5),
         prior_mean: 0.0,
@@ -94,7 +95,7 @@ fn psi_below_the_diagonal_is_refused() {
 
 #[test]
 fn default_psi_is_one_and_a_half_diagonals() {
-    let map = common::shelf_map((8, 8), 0.0, 16);
+    let map = gpis_fixtures::shelf_map((8, 8), 0.0, 16);
     assert!((map.psi() - 1.5 * 0.6f64.hypot(0.3)).abs() < 1e-15);
     assert_eq!(
         map.kernel().prior_variance(RowKind::Value),

@@ -1,15 +1,15 @@
 //! The incremental posterior equals a full recompute over the same rows, however the rows
 //! arrive (one by one, in chunks, in large batches), and predictions agree with the grid.
 
-mod common;
+mod gpis_fixtures;
 
 use env_core::gpis::Gpis;
 use rand::Rng;
 
 fn assert_matches_full_recompute(map: &Gpis, context: &str) {
     let full = map.recompute_from_scratch();
-    let mean_error = common::max_abs_difference(map.mean_grid(), &full.mean);
-    let variance_error = common::max_abs_difference(map.variance_grid(), &full.variance);
+    let mean_error = gpis_fixtures::max_abs_difference(map.mean_grid(), &full.mean);
+    let variance_error = gpis_fixtures::max_abs_difference(map.variance_grid(), &full.variance);
     assert!(
         mean_error <= 1e-9,
         "{context}: mean differs by {mean_error}"
@@ -23,8 +23,8 @@ fn assert_matches_full_recompute(map: &Gpis, context: &str) {
 #[test]
 fn incremental_equals_full_recompute_over_long_random_sequences() {
     for seed in 0..4 {
-        let mut rng = common::rng(seed);
-        let mut map = common::shelf_map((24, 32), 0.01, 2000);
+        let mut rng = gpis_fixtures::rng(seed);
+        let mut map = gpis_fixtures::shelf_map((24, 32), 0.01, 2000);
         let mut index = 0;
         for step in 0..60 {
             // Mix single observations and batches of up to 70 (more than one chunk).
@@ -36,7 +36,7 @@ fn incremental_equals_full_recompute_over_long_random_sequences() {
             let observations: Vec<_> = (0..batch)
                 .map(|_| {
                     index += 1;
-                    common::random_observation(&mut rng, index)
+                    gpis_fixtures::random_observation(&mut rng, index)
                 })
                 .collect();
             map.add(&observations, None).unwrap();
@@ -55,44 +55,45 @@ fn incremental_equals_full_recompute_over_long_random_sequences() {
 
 #[test]
 fn batch_and_one_by_one_additions_give_the_same_posterior() {
-    let mut rng = common::rng(7);
+    let mut rng = gpis_fixtures::rng(7);
     let observations: Vec<_> = (0..150)
-        .map(|i| common::random_observation(&mut rng, i))
+        .map(|i| gpis_fixtures::random_observation(&mut rng, i))
         .collect();
-    let mut batched = common::shelf_map((16, 16), 0.0, 1000);
+    let mut batched = gpis_fixtures::shelf_map((16, 16), 0.0, 1000);
     let mut one_by_one = batched.clone();
     batched.add(&observations, None).unwrap();
     for obs in &observations {
         one_by_one.add(std::slice::from_ref(obs), None).unwrap();
     }
     assert_eq!(batched.n_rows(), one_by_one.n_rows());
-    assert!(common::max_abs_difference(batched.mean_grid(), one_by_one.mean_grid()) <= 1e-9);
+    assert!(gpis_fixtures::max_abs_difference(batched.mean_grid(), one_by_one.mean_grid()) <= 1e-9);
     assert!(
-        common::max_abs_difference(batched.variance_grid(), one_by_one.variance_grid()) <= 1e-9
+        gpis_fixtures::max_abs_difference(batched.variance_grid(), one_by_one.variance_grid())
+            <= 1e-9
     );
 }
 
 #[test]
 fn predict_at_cell_centres_agrees_with_the_grid() {
-    let mut rng = common::rng(3);
-    let mut map = common::shelf_map((12, 20), 0.02, 1000);
+    let mut rng = gpis_fixtures::rng(3);
+    let mut map = gpis_fixtures::shelf_map((12, 20), 0.02, 1000);
     let observations: Vec<_> = (0..80)
-        .map(|i| common::random_observation(&mut rng, i))
+        .map(|i| gpis_fixtures::random_observation(&mut rng, i))
         .collect();
     map.add(&observations, None).unwrap();
     let centres = map.grid().cell_centres();
     let prediction = map.predict(&centres).unwrap();
-    assert!(common::max_abs_difference(&prediction.mean, map.mean_grid()) <= 1e-9);
-    assert!(common::max_abs_difference(&prediction.variance, map.variance_grid()) <= 1e-9);
+    assert!(gpis_fixtures::max_abs_difference(&prediction.mean, map.mean_grid()) <= 1e-9);
+    assert!(gpis_fixtures::max_abs_difference(&prediction.variance, map.variance_grid()) <= 1e-9);
 }
 
 #[test]
 fn same_inputs_give_bitwise_identical_maps() {
     let build = || {
-        let mut rng = common::rng(11);
-        let mut map = common::shelf_map((16, 16), 0.0, 1000);
+        let mut rng = gpis_fixtures::rng(11);
+        let mut map = gpis_fixtures::shelf_map((16, 16), 0.0, 1000);
         for i in 0..100 {
-            map.add(&[common::random_observation(&mut rng, i)], None)
+            map.add(&[gpis_fixtures::random_observation(&mut rng, i)], None)
                 .unwrap();
         }
         map
@@ -105,16 +106,16 @@ fn same_inputs_give_bitwise_identical_maps() {
 
 #[test]
 fn a_clone_grows_like_its_original_and_independently_of_it() {
-    let mut rng = common::rng(13);
-    let mut original = common::shelf_map((16, 16), 0.0, 1000);
+    let mut rng = gpis_fixtures::rng(13);
+    let mut original = gpis_fixtures::shelf_map((16, 16), 0.0, 1000);
     let first: Vec<_> = (0..70)
-        .map(|i| common::random_observation(&mut rng, i))
+        .map(|i| gpis_fixtures::random_observation(&mut rng, i))
         .collect();
     original.add(&first, None).unwrap();
     let mut copy = original.clone();
     let before = original.mean_grid().to_vec();
     let more: Vec<_> = (0..40)
-        .map(|i| common::random_observation(&mut rng, i))
+        .map(|i| gpis_fixtures::random_observation(&mut rng, i))
         .collect();
     copy.add(&more, None).unwrap();
     assert_eq!(

@@ -2,14 +2,14 @@
 //! variance that only shrinks, no NaN ever, and clear behaviour at the edges (duplicates,
 //! uninformative contacts, a full map, bad input).
 
-mod common;
+mod gpis_fixtures;
 
 use env_core::gpis::{GpisError, Observation};
 use rand::Rng;
 
 #[test]
 fn noise_free_values_and_normals_are_interpolated() {
-    let mut map = common::shelf_map((16, 16), 0.05, 100);
+    let mut map = gpis_fixtures::shelf_map((16, 16), 0.05, 100);
     let points = [[-0.1, 0.1], [0.05, 0.2], [0.2, 0.05]];
     let values = [0.0, -0.01, 0.03];
     map.add_values(&points, Some(&values), 0.0).unwrap();
@@ -41,10 +41,10 @@ fn noise_free_values_and_normals_are_interpolated() {
 
 #[test]
 fn mean_gradient_matches_finite_differences_of_the_mean() {
-    let mut rng = common::rng(5);
-    let mut map = common::shelf_map((8, 8), 0.02, 500);
+    let mut rng = gpis_fixtures::rng(5);
+    let mut map = gpis_fixtures::shelf_map((8, 8), 0.02, 500);
     let observations: Vec<_> = (0..40)
-        .map(|i| common::random_observation(&mut rng, i))
+        .map(|i| gpis_fixtures::random_observation(&mut rng, i))
         .collect();
     map.add(&observations, None).unwrap();
     let h = 1e-6;
@@ -68,11 +68,11 @@ fn mean_gradient_matches_finite_differences_of_the_mean() {
 
 #[test]
 fn variance_never_increases_as_rows_are_added() {
-    let mut rng = common::rng(1);
-    let mut map = common::shelf_map((20, 20), 0.0, 3000);
+    let mut rng = gpis_fixtures::rng(1);
+    let mut map = gpis_fixtures::shelf_map((20, 20), 0.0, 3000);
     let mut previous = map.variance_grid().to_vec();
     for i in 0..300 {
-        map.add(&[common::random_observation(&mut rng, i)], None)
+        map.add(&[gpis_fixtures::random_observation(&mut rng, i)], None)
             .unwrap();
         for (cell, (&now, &before)) in map.variance_grid().iter().zip(&previous).enumerate() {
             assert!(
@@ -86,7 +86,7 @@ fn variance_never_increases_as_rows_are_added() {
 
 #[test]
 fn duplicated_noise_free_points_are_rejected_not_nan() {
-    let mut map = common::shelf_map((16, 16), 0.0, 100);
+    let mut map = gpis_fixtures::shelf_map((16, 16), 0.0, 100);
     let p = [0.1, 0.1];
     let first = map.add_values(&[p], None, 0.0).unwrap();
     assert_eq!(first.added_rows, 1);
@@ -110,19 +110,20 @@ fn duplicated_noise_free_points_are_rejected_not_nan() {
 
 #[test]
 fn no_nan_over_adversarial_random_sequences() {
-    let mut rng = common::rng(2);
-    let mut map = common::shelf_map((16, 16), 0.01, 4000);
+    let mut rng = gpis_fixtures::rng(2);
+    let mut map = gpis_fixtures::shelf_map((16, 16), 0.01, 4000);
     let mut index = 0;
     for _ in 0..200 {
         index += 1;
-        let p = common::random_point(&mut rng);
+        let p = gpis_fixtures::random_point(&mut rng);
         // Clusters of nearly coincident points, zero noise, mixed with ordinary data.
         let jitter = [p[0] + 1e-9, p[1]];
         let batch = [
             Observation::value(index, p, 0.0, 0.0).unwrap(),
             Observation::value(index, jitter, 0.0, 0.0).unwrap(),
-            Observation::contact(index, p, common::random_normal(&mut rng), 0.0, 0.0).unwrap(),
-            common::random_observation(&mut rng, index),
+            Observation::contact(index, p, gpis_fixtures::random_normal(&mut rng), 0.0, 0.0)
+                .unwrap(),
+            gpis_fixtures::random_observation(&mut rng, index),
         ];
         map.add(&batch, None).unwrap();
         let grids = map.mean_grid().iter().chain(map.variance_grid());
@@ -138,7 +139,7 @@ fn no_nan_over_adversarial_random_sequences() {
 
 #[test]
 fn uninformative_contacts_are_skipped_and_counted() {
-    let mut map = common::shelf_map((16, 16), 0.0, 100);
+    let mut map = gpis_fixtures::shelf_map((16, 16), 0.0, 100);
     let point = [0.0, 0.1];
     let normal = [0.0, -1.0];
     let report = map
@@ -154,7 +155,7 @@ fn uninformative_contacts_are_skipped_and_counted() {
 
 #[test]
 fn a_call_that_could_exceed_capacity_adds_nothing() {
-    let mut map = common::shelf_map((8, 8), 0.0, 5);
+    let mut map = gpis_fixtures::shelf_map((8, 8), 0.0, 5);
     map.add_values(&[[0.0, 0.1], [0.1, 0.1]], None, 0.002)
         .unwrap();
     let before = map.mean_grid().to_vec();
@@ -188,7 +189,7 @@ fn a_call_that_could_exceed_capacity_adds_nothing() {
 
 #[test]
 fn bad_observations_are_refused_with_what_came() {
-    let mut map = common::shelf_map((8, 8), 0.0, 100);
+    let mut map = gpis_fixtures::shelf_map((8, 8), 0.0, 100);
     assert!(matches!(
         map.add_values(&[[0.0, 0.5]], None, 0.0),
         Err(GpisError::PointOutsideBounds { index: 0, y, .. }) if y == 0.5
@@ -225,11 +226,11 @@ fn bad_observations_are_refused_with_what_came() {
 
 #[test]
 fn clear_returns_the_map_to_its_prior() {
-    let mut rng = common::rng(4);
-    let mut map = common::shelf_map((8, 8), 0.03, 500);
+    let mut rng = gpis_fixtures::rng(4);
+    let mut map = gpis_fixtures::shelf_map((8, 8), 0.03, 500);
     let fresh = map.clone();
     let observations: Vec<_> = (0..50)
-        .map(|i| common::random_observation(&mut rng, i))
+        .map(|i| gpis_fixtures::random_observation(&mut rng, i))
         .collect();
     map.add(&observations, None).unwrap();
     map.clear();
@@ -238,12 +239,12 @@ fn clear_returns_the_map_to_its_prior() {
     assert_eq!(map.variance_grid(), fresh.variance_grid());
     map.add(&observations, None).unwrap();
     let full = map.recompute_from_scratch();
-    assert!(common::max_abs_difference(map.mean_grid(), &full.mean) <= 1e-9);
+    assert!(gpis_fixtures::max_abs_difference(map.mean_grid(), &full.mean) <= 1e-9);
 }
 
 #[test]
 fn circle_prior_makes_its_centre_inside_and_its_rim_a_surface() {
-    let mut map = common::shelf_map((16, 16), 0.02, 100);
+    let mut map = gpis_fixtures::shelf_map((16, 16), 0.02, 100);
     let centre = [0.05, 0.15];
     let report = map.add_circle_prior(centre, 0.03, 0.0, 0.0).unwrap();
     assert_eq!(report.added_rows, 12);

@@ -4,11 +4,20 @@ use pyo3::exceptions::PyValueError;
 use pyo3::PyErr;
 
 use crate::gpis::GpisError;
+use crate::scene::SceneError;
 
 impl From<GpisError> for PyErr {
     fn from(error: GpisError) -> Self {
         // Every GPIS error is a bad argument value (shape, bounds, noise, capacity), and its
         // message already says what was expected and what came.
+        PyValueError::new_err(error.to_string())
+    }
+}
+
+impl From<SceneError> for PyErr {
+    fn from(error: SceneError) -> Self {
+        // Every scene error is a bad value (config entry, layout, command), and its message
+        // says what was expected and what came.
         PyValueError::new_err(error.to_string())
     }
 }

@@ -3,6 +3,7 @@
 
 mod errors;
 mod gpis;
+mod scene;
 
 use pyo3::prelude::*;
 
@@ -11,6 +12,7 @@ use pyo3::prelude::*;
 #[pyo3(name = "_core")]
 fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<gpis::PyGpis>()?;
+    m.add_class::<scene::PyScene>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

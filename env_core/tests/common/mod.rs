@@ -1,61 +1,124 @@
-//! Shared fixtures of the GPIS integration tests: a shelf-sized map and random observations.
+//! Geometry written independently of rapier/parry for the scene tests: signed distances and
+//! ray intersections of upright jars and axis-aligned wall boxes, in f64.
+
 #![allow(dead_code)]
 
-use env_core::gpis::{Gpis, GpisConfig, Observation};
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
+use env_core::scene::{JarShape, JarState, WallBox};
 
-/// The shelf slice: 0.6 m wide, 0.3 m deep.
-pub const BOUNDS: [[f64; 2]; 2] = [[-0.3, 0.3], [0.0, 0.3]];
-
-/// A map over [`BOUNDS`] with the default ψ.
-pub fn shelf_map(shape: (usize, usize), prior_mean: f64, max_rows: usize) -> Gpis {
-    Gpis::new(GpisConfig {
-        bounds: BOUNDS,
-        shape,
-        psi: None,
-        prior_mean,
-        max_rows,
-    })
-    .expect("valid config")
+/// A jar's centre (x, y), yaw, height and shape from its current state (upright jars only).
+pub struct JarGeom {
+    pub x: f64,
+    pub y: f64,
+    pub z_bottom: f64,
+    pub yaw: f64,
+    pub height: f64,
+    pub shape: JarShape,
 }
 
-/// A seeded generator.
-pub fn rng(seed: u64) -> ChaCha8Rng {
-    ChaCha8Rng::seed_from_u64(seed)
-}
+impl JarGeom {
+    pub fn of(state: &JarState) -> Self {
+        let [qx, qy, qz, qw] = state.rotation;
+        // Yaw of an (almost) upright quaternion.
+        let yaw = 2.0 * qz.atan2(qw);
+        assert!(
+            qx.abs() < 1e-2 && qy.abs() < 1e-2,
+            "jar not upright: {:?}",
+            state.rotation
+        );
+        Self {
+            x: state.position[0],
+            y: state.position[1],
+            z_bottom: state.position[2] - 0.5 * state.spec.height,
+            yaw,
+            height: state.spec.height,
+            shape: state.spec.shape,
+        }
+    }
 
-/// A uniformly random point inside [`BOUNDS`].
-pub fn random_point(rng: &mut ChaCha8Rng) -> [f64; 2] {
-    [
-        rng.random_range(BOUNDS[0][0]..BOUNDS[0][1]),
-        rng.random_range(BOUNDS[1][0]..BOUNDS[1][1]),
-    ]
-}
+    /// Point in the jar's frame (origin at the bottom centre, z up).
+    pub fn to_local(&self, p: [f64; 3]) -> [f64; 3] {
+        let (dx, dy) = (p[0] - self.x, p[1] - self.y);
+        let (s, c) = self.yaw.sin_cos();
+        [c * dx + s * dy, -s * dx + c * dy, p[2] - self.z_bottom]
+    }
 
-/// A random unit vector.
-pub fn random_normal(rng: &mut ChaCha8Rng) -> [f64; 2] {
-    let angle: f64 = rng.random_range(0.0..std::f64::consts::TAU);
-    [angle.cos(), angle.sin()]
-}
+    /// Signed distance of a 3D point to the jar's surface (negative inside).
+    pub fn sdf(&self, p: [f64; 3]) -> f64 {
+        let l = self.to_local(p);
+        let hz = 0.5 * self.height;
+        let qz = (l[2] - hz).abs() - hz;
+        match self.shape {
+            JarShape::Round { radius } => {
+                let qr = l[0].hypot(l[1]) - radius;
+                qr.max(0.0).hypot(qz.max(0.0)) + qr.max(qz).min(0.0)
+            }
+            JarShape::Square { half_side } => {
+                let q = [l[0].abs() - half_side, l[1].abs() - half_side, qz];
+                let outside = q.iter().map(|v| v.max(0.0).powi(2)).sum::<f64>().sqrt();
+                outside + q[0].max(q[1]).max(q[2]).min(0.0)
+            }
+        }
+    }
 
-/// A random observation: a noisy value (f in [-0.02, 0.05]) or a noisy contact.
-pub fn random_observation(rng: &mut ChaCha8Rng, index: usize) -> Observation {
-    let point = random_point(rng);
-    if rng.random_bool(0.5) {
-        let value = rng.random_range(-0.02..0.05);
-        Observation::value(index, point, value, 0.002f64.powi(2)).unwrap()
-    } else {
-        let normal = random_normal(rng);
-        Observation::contact(index, point, normal, 0.0005f64.powi(2), 0.05f64.powi(2)).unwrap()
+    /// Smallest t >= 0 where origin + t·dir enters the jar, if any.
+    pub fn ray_hit(&self, origin: [f64; 3], dir: [f64; 3]) -> Option<f64> {
+        let o = self.to_local(origin);
+        let (s, c) = self.yaw.sin_cos();
+        let d = [c * dir[0] + s * dir[1], -s * dir[0] + c * dir[1], dir[2]];
+        let mut t_in = 0.0f64;
+        let mut t_out = f64::INFINITY;
+        // z slab.
+        slab(o[2], d[2], 0.0, self.height, &mut t_in, &mut t_out)?;
+        match self.shape {
+            JarShape::Round { radius } => {
+                let a = d[0] * d[0] + d[1] * d[1];
+                let b = 2.0 * (o[0] * d[0] + o[1] * d[1]);
+                let cc = o[0] * o[0] + o[1] * o[1] - radius * radius;
+                if a < 1e-15 {
+                    if cc > 0.0 {
+                        return None;
+                    }
+                } else {
+                    let disc = b * b - 4.0 * a * cc;
+                    if disc < 0.0 {
+                        return None;
+                    }
+                    let sq = disc.sqrt();
+                    t_in = t_in.max((-b - sq) / (2.0 * a));
+                    t_out = t_out.min((-b + sq) / (2.0 * a));
+                }
+            }
+            JarShape::Square { half_side } => {
+                slab(o[0], d[0], -half_side, half_side, &mut t_in, &mut t_out)?;
+                slab(o[1], d[1], -half_side, half_side, &mut t_in, &mut t_out)?;
+            }
+        }
+        (t_in <= t_out).then_some(t_in)
     }
 }
 
-/// Largest absolute difference between two equally long slices.
-pub fn max_abs_difference(a: &[f64], b: &[f64]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
+fn slab(o: f64, d: f64, lo: f64, hi: f64, t_in: &mut f64, t_out: &mut f64) -> Option<()> {
+    if d.abs() < 1e-15 {
+        return (lo..=hi).contains(&o).then_some(());
+    }
+    let (a, b) = ((lo - o) / d, (hi - o) / d);
+    *t_in = t_in.max(a.min(b));
+    *t_out = t_out.min(a.max(b));
+    (*t_in <= *t_out).then_some(())
+}
+
+/// Signed distance of a point to an axis-aligned wall box.
+pub fn box_sdf(wall: &WallBox, p: [f64; 3]) -> f64 {
+    let q: Vec<f64> = (0..3)
+        .map(|i| (p[i] - wall.centre[i]).abs() - wall.half_extents[i])
+        .collect();
+    let outside = q.iter().map(|v| v.max(0.0).powi(2)).sum::<f64>().sqrt();
+    outside + q[0].max(q[1]).max(q[2]).min(0.0)
+}
+
+/// Angle between two 2D vectors, degrees.
+pub fn angle_deg(a: [f64; 2], b: [f64; 2]) -> f64 {
+    let dot = a[0] * b[0] + a[1] * b[1];
+    let cross = a[0] * b[1] - a[1] * b[0];
+    cross.atan2(dot).abs().to_degrees()
 }

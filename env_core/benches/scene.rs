@@ -1,0 +1,101 @@
+//! Criterion benchmarks of the cupboard scene: a scene step (4 physics substeps) and a single
+//! physics step with the finger pressed on a jar, one depth capture (render + cloud + slice),
+//! layout generation, and a whole reset (layout + world + first look).
+//!
+//! Run: `cargo bench -p env_core --bench scene` (append `-- --quick` on a noisy machine).
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use env_core::scene::{
+    Cupboard, DepthCamera, HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig, Visibility,
+};
+
+/// A scene whose finger is pressed 8 mm into a round jar's side (deflected, in contact).
+fn pressed_scene() -> Scene {
+    let jar = JarSpec {
+        shape: JarShape::Round { radius: 0.025 },
+        height: 0.11,
+        mass: 0.15,
+        x: 0.0,
+        y: 0.15,
+        yaw: 0.0,
+    };
+    let mut config = SceneConfig::default();
+    config.hand.start = [-0.034, 0.063, 0.0];
+    let layout = Layout {
+        jars: vec![jar],
+        target: 0,
+        corridor: None,
+        visibility: Visibility::default(),
+    };
+    let mut scene = Scene::from_layout(config, layout, 0).expect("scene builds");
+    for _ in 0..7 {
+        scene
+            .step(HandCommand {
+                dx: 0.002,
+                ..Default::default()
+            })
+            .expect("finite");
+    }
+    assert!(!scene.true_contacts().is_empty(), "finger not in contact");
+    scene
+}
+
+fn bench_physics(c: &mut Criterion) {
+    let mut scene = pressed_scene();
+    let mut k = 0u64;
+    c.bench_function("scene_step_finger_in_contact (4 substeps)", |b| {
+        b.iter(|| {
+            // Slide back and forth along the jar so the contact stays live.
+            k += 1;
+            let dy = if (k / 10) % 2 == 0 { 0.0005 } else { -0.0005 };
+            black_box(
+                scene
+                    .step(HandCommand {
+                        dy,
+                        ..Default::default()
+                    })
+                    .expect("finite"),
+            );
+        })
+    });
+    assert!(
+        !scene.true_contacts().is_empty(),
+        "contact lost during the benchmark"
+    );
+    let mut scene = pressed_scene();
+    c.bench_function("physics_step_finger_in_contact (1 step)", |b| {
+        b.iter(|| scene.idle(black_box(1)))
+    });
+}
+
+fn bench_depth(c: &mut Criterion) {
+    let mut scene = Scene::new(SceneConfig::default(), 3).expect("scene builds");
+    c.bench_function("depth_capture_160x120", |b| {
+        b.iter(|| black_box(scene.capture()))
+    });
+}
+
+fn bench_layout(c: &mut Criterion) {
+    let config = SceneConfig::default();
+    let cupboard = Cupboard::new(&config.cupboard);
+    let camera = DepthCamera::new(&config.camera).expect("camera");
+    let mut seed = 0u64;
+    c.bench_function("layout_generation", |b| {
+        b.iter(|| {
+            seed += 1;
+            black_box(Layout::generate(&config.layout, &cupboard, &camera, seed).expect("layout"))
+        })
+    });
+    let mut seed = 0u64;
+    c.bench_function("scene_reset (layout + world + first look)", |b| {
+        b.iter(|| {
+            seed += 1;
+            black_box(Scene::new(config.clone(), seed).expect("scene"))
+        })
+    });
+}
+
+criterion_group!(benches, bench_physics, bench_depth, bench_layout);
+criterion_main!(benches);

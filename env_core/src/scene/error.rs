@@ -1,0 +1,124 @@
+//! Typed errors of the cupboard scene. Each says what was expected and what came; the Python
+//! bindings map them to `ValueError` in one place (`python/errors.rs`).
+
+use thiserror::Error;
+
+/// Everything that can go wrong when configuring, building or commanding a
+/// [`crate::scene::Scene`].
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SceneError {
+    /// A scalar parameter was NaN or infinite.
+    #[error("{what} must be finite, got {value}")]
+    NonFinite {
+        /// Which parameter.
+        what: &'static str,
+        /// Value given.
+        value: f64,
+    },
+    /// A scalar parameter lies outside its allowed range.
+    #[error("{what} must lie in {expected}, got {value}")]
+    OutOfRange {
+        /// Which parameter.
+        what: &'static str,
+        /// The allowed range, as text (e.g. `"(0, 1]"`).
+        expected: &'static str,
+        /// Value given.
+        value: f64,
+    },
+    /// A `[low, high]` range parameter has `low > high` or a bad end.
+    #[error(
+        "{what} must be a range [low, high] with {expected} and low <= high, got [{low}, {high}]"
+    )]
+    InvalidRange {
+        /// Which parameter.
+        what: &'static str,
+        /// What each end must satisfy.
+        expected: &'static str,
+        /// Lower end given.
+        low: f64,
+        /// Upper end given.
+        high: f64,
+    },
+    /// A count parameter lies outside its allowed range.
+    #[error("{what} must lie in {expected}, got {value}")]
+    CountOutOfRange {
+        /// Which parameter.
+        what: &'static str,
+        /// The allowed range, as text.
+        expected: &'static str,
+        /// Value given.
+        value: usize,
+    },
+    /// A string option named no known choice.
+    #[error("{what} must be one of {expected}, got {value:?}")]
+    UnknownChoice {
+        /// Which option.
+        what: &'static str,
+        /// The allowed choices, as text.
+        expected: &'static str,
+        /// Value given.
+        value: String,
+    },
+    /// The camera's optical axis is undefined (eye equals target, or looks straight up/down).
+    #[error(
+        "camera look_at must differ from the camera position and not lie straight above or \
+         below it, got position {position:?} and look_at {look_at:?}"
+    )]
+    DegenerateCameraPose {
+        /// Camera position given.
+        position: [f64; 3],
+        /// Look-at point given.
+        look_at: [f64; 3],
+    },
+    /// The layout generator found no layout satisfying every constraint.
+    #[error(
+        "no layout with {jars} jar(s) hiding the target (visible fraction <= {max_visible_fraction}) \
+         and keeping a clear corridor was found in {attempts} attempts with seed {seed}; relax \
+         the layout config (fewer jars, larger max_visible_fraction, narrower corridor)"
+    )]
+    LayoutNotFound {
+        /// Seed given.
+        seed: u64,
+        /// Attempts made.
+        attempts: usize,
+        /// Jar count of the last attempt.
+        jars: usize,
+        /// The visibility bound.
+        max_visible_fraction: f64,
+    },
+    /// An explicit layout is not valid (overlap, outside the cupboard, bad target index, ...).
+    #[error("invalid layout: {reason}")]
+    InvalidLayout {
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// The hand's start pose already intersects a cupboard wall or leaves the workspace.
+    #[error(
+        "hand start pose (x={x}, y={y}, yaw={yaw}) must leave the wrist and arm clear of the \
+         cupboard walls and inside the workspace"
+    )]
+    HandStartBlocked {
+        /// Start x.
+        x: f64,
+        /// Start y.
+        y: f64,
+        /// Start yaw.
+        yaw: f64,
+    },
+    /// A hand command had a non-finite component.
+    #[error("hand command {what} must be finite, got {value}")]
+    NonFiniteCommand {
+        /// `"dx"`, `"dy"` or `"dyaw"`.
+        what: &'static str,
+        /// Value given.
+        value: f64,
+    },
+    /// A jar index is out of range.
+    #[error("jar index must be < {count}, got {index}")]
+    JarIndex {
+        /// Index given.
+        index: usize,
+        /// Number of jars.
+        count: usize,
+    },
+}

@@ -1,0 +1,303 @@
+//! The Exploratory Hand: a wrist moved kinematically in the slice plane `(x, y, yaw)`, an arm
+//! link behind it reaching out of the cupboard (towards −y at yaw 0), and a long finger on a
+//! revolute joint (about z, at the wrist's front face) whose motor renders a low stiffness
+//! and damping, so contact deflects the finger instead of shoving the jar. The joint angle is
+//! the sensed deflection.
+//!
+//! Hand frame: +y is forward (the finger's direction), so at yaw θ the finger points along
+//! `(−sin θ, cos θ)`. Motions that would bring the wrist, the arm or the finger (at its current
+//! deflection) closer than `wall_margin` to a cupboard wall, or take the wrist out of its
+//! workspace, are stopped at the last clear pose along the motion (bisection on exact shape
+//! distances) and reported. The finger is included because a finger driven end-on into a wall
+//! cannot deflect, and the joint and the wall contact would fight.
+
+use rapier3d::parry::query;
+use rapier3d::prelude::*;
+
+use super::config::HandConfig;
+use super::cupboard::{Cupboard, Wall};
+use super::error::SceneError;
+use super::groups;
+
+/// Gap between the wrist's front face and the finger's joint, m (keeps the finger's root
+/// clear of the wrist when it deflects).
+const JOINT_GAP: f64 = 0.002;
+/// Bisection steps when a motion is blocked (resolution 2⁻¹⁶ of the motion).
+const BISECTION_STEPS: usize = 16;
+
+/// A wrist pose in the slice plane.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HandPose {
+    /// x, m.
+    pub x: f64,
+    /// y, m.
+    pub y: f64,
+    /// Rotation about z, rad; 0 points the finger along +y.
+    pub yaw: f64,
+}
+
+impl HandPose {
+    fn lerp(&self, other: &Self, s: f64) -> Self {
+        Self {
+            x: self.x + s * (other.x - self.x),
+            y: self.y + s * (other.y - self.y),
+            yaw: self.yaw + s * (other.yaw - self.yaw),
+        }
+    }
+}
+
+/// What stopped a hand motion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Blocker {
+    /// The wrist or arm reached a cupboard wall.
+    Wall(Wall),
+    /// The wrist reached the edge of its workspace.
+    Workspace,
+}
+
+impl Blocker {
+    /// `"floor"`, `"back"`, `"left"`, `"right"`, `"top"` or `"workspace"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Wall(wall) => wall.name(),
+            Self::Workspace => "workspace",
+        }
+    }
+}
+
+/// The hand's bodies, joint and kinematic state inside a physics world.
+#[derive(Debug, Clone)]
+pub(crate) struct Hand {
+    config: HandConfig,
+    z: f64,
+    wrist_body: RigidBodyHandle,
+    finger_body: Option<RigidBodyHandle>,
+    finger_collider: ColliderHandle,
+    pose: HandPose,
+    wrist_shape: Cuboid,
+    arm_shape: Cuboid,
+    finger_shape: Cuboid,
+    arm_offset: f64,
+    walls: Vec<(Wall, Pose, Cuboid)>,
+}
+
+impl Hand {
+    /// Inserts the hand at its configured start pose; fails if that pose is not clear of the
+    /// walls or outside the workspace.
+    pub(crate) fn insert(
+        world: &mut PhysicsWorld,
+        config: &HandConfig,
+        z: f64,
+        cupboard: &Cupboard,
+    ) -> Result<Self, SceneError> {
+        let [x, y, yaw] = config.start;
+        let pose = HandPose { x, y, yaw };
+        let w = config.wrist_half_extent;
+        let arm_offset = -(w + 0.5 * config.arm_length);
+        let walls = cupboard
+            .walls()
+            .iter()
+            .map(|wall| (wall.wall, wall.pose(), wall.shape()))
+            .collect();
+        let wrist_shape = Cuboid::new(Vector::splat(w as Real));
+        let arm_shape = Cuboid::new(Vector::new(
+            config.arm_half_width as Real,
+            (0.5 * config.arm_length) as Real,
+            config.arm_half_width as Real,
+        ));
+        let wrist_pose = Self::body_pose(pose, z);
+        let wrist_body = world.insert_body(
+            RigidBodyBuilder::kinematic_position_based()
+                .pose(wrist_pose)
+                .can_sleep(false),
+        );
+        let hand_collider = |shape: Cuboid, offset: f64| {
+            ColliderBuilder::new(SharedShape::new(shape))
+                .translation(Vector::new(0.0, offset as Real, 0.0))
+                .friction(0.5)
+                .collision_groups(groups::HAND)
+                .user_data(0)
+        };
+        world.insert_collider(hand_collider(wrist_shape, 0.0), Some(wrist_body));
+        world.insert_collider(hand_collider(arm_shape, arm_offset), Some(wrist_body));
+
+        let joint_y = w + JOINT_GAP;
+        let l = config.finger_length;
+        let finger_builder = ColliderBuilder::cuboid(
+            config.finger_half_thickness as Real,
+            (0.5 * l) as Real,
+            config.finger_half_height as Real,
+        )
+        .friction(config.finger_friction as Real)
+        .restitution(0.0)
+        .collision_groups(groups::FINGER)
+        .user_data(0);
+        let (finger_body, finger_collider) = if config.rigid_finger {
+            let collider = world.insert_collider(
+                finger_builder
+                    .translation(Vector::new(0.0, (joint_y + 0.5 * l) as Real, 0.0))
+                    .mass(config.finger_mass as Real),
+                Some(wrist_body),
+            );
+            (None, collider)
+        } else {
+            let finger_pose = wrist_pose * Pose::translation(0.0, joint_y as Real, 0.0);
+            let body = world.insert_body(
+                RigidBodyBuilder::dynamic()
+                    .pose(finger_pose)
+                    .gravity_scale(0.0)
+                    .can_sleep(false),
+            );
+            let collider = world.insert_collider(
+                finger_builder
+                    .translation(Vector::new(0.0, (0.5 * l) as Real, 0.0))
+                    .mass(config.finger_mass as Real),
+                Some(body),
+            );
+            let joint = RevoluteJointBuilder::new(Vector::Z)
+                .local_anchor1(Vector::new(0.0, joint_y as Real, 0.0))
+                .local_anchor2(Vector::ZERO)
+                .motor_model(MotorModel::ForceBased)
+                .motor_position(
+                    0.0,
+                    config.finger_stiffness as Real,
+                    config.finger_damping as Real,
+                )
+                .limits([-config.finger_limit as Real, config.finger_limit as Real])
+                .contacts_enabled(false);
+            world.insert_impulse_joint(wrist_body, body, joint);
+            (Some(body), collider)
+        };
+        let hand = Self {
+            config: config.clone(),
+            z,
+            wrist_body,
+            finger_body,
+            finger_collider,
+            pose,
+            wrist_shape,
+            arm_shape,
+            finger_shape: Cuboid::new(Vector::new(
+                config.finger_half_thickness as Real,
+                (0.5 * l) as Real,
+                config.finger_half_height as Real,
+            )),
+            arm_offset,
+            walls,
+        };
+        if hand.blocker(pose, 0.0).is_some() {
+            return Err(SceneError::HandStartBlocked { x, y, yaw });
+        }
+        Ok(hand)
+    }
+
+    fn body_pose(pose: HandPose, z: f64) -> Pose {
+        Pose::from_parts(
+            Vector::new(pose.x as Real, pose.y as Real, z as Real),
+            Rotation::from_rotation_z(pose.yaw as Real),
+        )
+    }
+
+    /// What would block the wrist, the arm or the finger (held at deflection
+    /// `finger_angle`) at `pose`, if anything. Cost: 15 box distances.
+    fn blocker(&self, pose: HandPose, finger_angle: f64) -> Option<Blocker> {
+        let [[x0, x1], [y0, y1]] = self.config.workspace;
+        if !(x0..=x1).contains(&pose.x) || !(y0..=y1).contains(&pose.y) {
+            return Some(Blocker::Workspace);
+        }
+        let wrist = Self::body_pose(pose, self.z);
+        let arm = wrist * Pose::translation(0.0, self.arm_offset as Real, 0.0);
+        let finger = wrist
+            * Pose::translation(0.0, self.joint_y() as Real, 0.0)
+            * Pose::from_rotation(Rotation::from_rotation_z(finger_angle as Real))
+            * Pose::translation(0.0, (0.5 * self.config.finger_length) as Real, 0.0);
+        let margin = self.config.wall_margin;
+        for (wall, wall_pose, wall_shape) in &self.walls {
+            let parts = [
+                (&wrist, &self.wrist_shape),
+                (&arm, &self.arm_shape),
+                (&finger, &self.finger_shape),
+            ];
+            for (part_pose, part_shape) in parts {
+                let clear = query::distance(wall_pose, wall_shape, part_pose, part_shape)
+                    .is_ok_and(|d| f64::from(d.distance) >= margin);
+                if !clear {
+                    return Some(Blocker::Wall(*wall));
+                }
+            }
+        }
+        None
+    }
+
+    /// Moves the wrist towards `target` for the next physics step, stopping at the last clear
+    /// pose if the motion is blocked; returns the blocker. Cost: ≤ 17 clearance checks.
+    pub(crate) fn advance(
+        &mut self,
+        world: &mut PhysicsWorld,
+        target: HandPose,
+    ) -> Option<Blocker> {
+        let start = self.pose;
+        let angle = self.finger_angle(world);
+        let blocked = self.blocker(target, angle);
+        let reached = match blocked {
+            None => target,
+            Some(_) => {
+                let (mut lo, mut hi) = (0.0, 1.0);
+                for _ in 0..BISECTION_STEPS {
+                    let mid = 0.5 * (lo + hi);
+                    if self.blocker(start.lerp(&target, mid), angle).is_none() {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                start.lerp(&target, lo)
+            }
+        };
+        self.pose = reached;
+        if let Some(body) = world.bodies.get_mut(self.wrist_body) {
+            body.set_next_kinematic_position(Self::body_pose(reached, self.z));
+        }
+        blocked
+    }
+
+    fn joint_y(&self) -> f64 {
+        self.config.wrist_half_extent + JOINT_GAP
+    }
+
+    /// The commanded wrist pose.
+    pub(crate) fn pose(&self) -> HandPose {
+        self.pose
+    }
+
+    /// The finger's collider.
+    pub(crate) fn finger_collider(&self) -> ColliderHandle {
+        self.finger_collider
+    }
+
+    /// Finger deflection: the joint angle (finger yaw relative to the wrist), rad, in
+    /// `[−π, π]`; always 0 for a rigid finger.
+    pub(crate) fn finger_angle(&self, world: &PhysicsWorld) -> f64 {
+        let Some(finger) = self.finger_body.and_then(|h| world.bodies.get(h)) else {
+            return 0.0;
+        };
+        let Some(wrist) = world.bodies.get(self.wrist_body) else {
+            return 0.0;
+        };
+        let relative = wrist.rotation().inverse() * *finger.rotation();
+        let angle = 2.0 * f64::from(relative.z).atan2(f64::from(relative.w));
+        (angle + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
+    }
+
+    /// The finger's world pose as `(x, y, yaw)` of its joint (equal to the wrist's front for a
+    /// rigid finger).
+    pub(crate) fn finger_pose(&self, world: &PhysicsWorld) -> HandPose {
+        let joint_y = self.joint_y();
+        let (s, c) = self.pose.yaw.sin_cos();
+        HandPose {
+            x: self.pose.x - s * joint_y,
+            y: self.pose.y + c * joint_y,
+            yaw: self.pose.yaw + self.finger_angle(world),
+        }
+    }
+}

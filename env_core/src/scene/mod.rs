@@ -1,0 +1,50 @@
+//! The cupboard scene in rapier3d (design notes §2; paper §IV.A): one shelf compartment,
+//! 3–7 dynamic spice jars with a hidden target, a pinhole depth camera for the first look, and
+//! the Exploratory Hand whose compliant finger senses contacts.
+//!
+//! SI units, z up; the interior is `x ∈ [−W/2, W/2]`, `y ∈ [0, D]` (open front at y = 0, the
+//! robot at y < 0), `z ∈ [0, H]`. The map plane is the horizontal slice at
+//! [`SceneConfig::slice_height`].
+//!
+//! - [`config`]: every tunable number, validated once.
+//! - [`cupboard`], [`jar`]: the fixed walls and the dynamic jars.
+//! - [`layout`]: the seeded generator hiding the target and keeping a corridor to it.
+//! - [`visibility`]: the target's visible fraction, by ray casting.
+//! - [`ray_cast`]: exact ray casts, candidates from rapier's query pipeline.
+//! - [`depth_camera`], [`point_cloud`]: depth image, 3D cloud, 2D slice, noise, thinning.
+//! - [`hand`], [`touch`]: the kinematic wrist and arm, the compliant finger, its readings.
+//! - [`disturbance`]: per-jar displacement and tilt since reset.
+//! - [`Scene`]: all of it in one rapier world, stepped by hand commands.
+
+pub mod config;
+pub mod cupboard;
+pub mod depth_camera;
+pub mod disturbance;
+pub mod error;
+mod groups;
+pub mod hand;
+pub mod jar;
+pub mod layout;
+pub mod point_cloud;
+pub mod ray_cast;
+// The file is named for the concept it holds, like its siblings.
+#[allow(clippy::module_inception)]
+mod scene;
+pub mod touch;
+pub mod visibility;
+
+pub use config::{
+    CameraConfig, CupboardConfig, HandConfig, LayoutConfig, PhysicsConfig, SceneConfig,
+    TargetShape, TouchConfig,
+};
+pub use cupboard::{Cupboard, Wall, WallBox};
+pub use depth_camera::{CameraIntrinsics, DepthCamera, DepthImage, LABEL_CUPBOARD, LABEL_NONE};
+pub use disturbance::Disturbance;
+pub use error::SceneError;
+pub use hand::{Blocker, HandPose};
+pub use jar::{JarShape, JarSpec};
+pub use layout::{Corridor, Layout};
+pub use point_cloud::{DepthCapture, SliceSpec};
+pub use scene::{HandCommand, JarState, Scene, StepReport};
+pub use touch::Contact;
+pub use visibility::{target_visibility, Visibility};

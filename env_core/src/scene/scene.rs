@@ -1,0 +1,385 @@
+//! The cupboard scene: a rapier world holding the cupboard, the jars of a layout and the hand,
+//! the depth camera's first look, and the tactile readings after each hand command.
+//!
+//! Determinism: one single-threaded rapier pipeline (no `parallel` feature), contact
+//! recycling off, and three ChaCha8 streams derived from the seed (layout, depth noise, touch
+//! noise), so the same seed and the same commands give bit-identical states.
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rapier3d::prelude::*;
+
+use super::config::SceneConfig;
+use super::cupboard::Cupboard;
+use super::depth_camera::DepthCamera;
+use super::disturbance::Disturbance;
+use super::error::SceneError;
+use super::hand::{Blocker, Hand, HandPose};
+use super::jar::JarSpec;
+use super::layout::Layout;
+use super::point_cloud::{process_depth, DepthCapture, SliceSpec};
+use super::touch::{finger_contacts, with_noise, Contact};
+use super::visibility::target_visibility;
+
+/// ChaCha stream of the depth-camera noise.
+const DEPTH_NOISE_STREAM: u64 = 1;
+/// ChaCha stream of the touch noise.
+const TOUCH_NOISE_STREAM: u64 = 2;
+
+/// A wrist motion for one scene step, in the world's slice plane.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct HandCommand {
+    /// Motion along x, m.
+    pub dx: f64,
+    /// Motion along y, m.
+    pub dy: f64,
+    /// Rotation about z, rad.
+    pub dyaw: f64,
+}
+
+/// What one [`Scene::step`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StepReport {
+    /// The command after clipping to the configured bounds.
+    pub commanded: HandCommand,
+    /// Whether clipping changed the command.
+    pub clipped: bool,
+    /// The wrist motion actually made (less than `commanded` when blocked).
+    pub moved: HandCommand,
+    /// What stopped the motion, if anything.
+    pub blocked: Option<Blocker>,
+}
+
+/// A jar's current state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JarState {
+    /// Its layout entry (shape, size, mass, pose at reset).
+    pub spec: JarSpec,
+    /// Centre of its body now, m.
+    pub position: [f64; 3],
+    /// Orientation now as a quaternion `(x, y, z, w)`.
+    pub rotation: [f64; 4],
+    /// Disturbance since reset.
+    pub disturbance: Disturbance,
+}
+
+/// Handles of a jar in the world.
+#[derive(Debug, Clone, Copy)]
+struct JarHandles {
+    body: RigidBodyHandle,
+}
+
+/// One episode's physical scene.
+pub struct Scene {
+    config: SceneConfig,
+    seed: u64,
+    cupboard: Cupboard,
+    layout: Layout,
+    camera: DepthCamera,
+    world: PhysicsWorld,
+    jars: Vec<JarHandles>,
+    rest_poses: Vec<Pose>,
+    hand: Hand,
+    first_look: DepthCapture,
+    depth_rng: ChaCha8Rng,
+    touch_rng: ChaCha8Rng,
+    contacts_true: Vec<Contact>,
+    contacts: Vec<Contact>,
+    steps: u64,
+}
+
+impl Scene {
+    /// Builds the scene of `seed`: generates the layout, builds the world, takes the depth
+    /// camera's first look. Cost: layout generation plus one depth render (a few ms).
+    pub fn new(config: SceneConfig, seed: u64) -> Result<Self, SceneError> {
+        config.validate()?;
+        let cupboard = Cupboard::new(&config.cupboard);
+        let camera = DepthCamera::new(&config.camera)?;
+        let layout = Layout::generate(&config.layout, &cupboard, &camera, seed)?;
+        Self::build(config, layout, cupboard, camera, seed)
+    }
+
+    /// Builds a scene from an explicit layout (checked; its visibility is re-measured).
+    /// `seed` drives the sensor noise.
+    pub fn from_layout(
+        config: SceneConfig,
+        mut layout: Layout,
+        seed: u64,
+    ) -> Result<Self, SceneError> {
+        config.validate()?;
+        let cupboard = Cupboard::new(&config.cupboard);
+        let camera = DepthCamera::new(&config.camera)?;
+        layout.check(&cupboard)?;
+        layout.visibility = target_visibility(&camera, &cupboard, &layout.jars, layout.target);
+        Self::build(config, layout, cupboard, camera, seed)
+    }
+
+    fn build(
+        config: SceneConfig,
+        layout: Layout,
+        cupboard: Cupboard,
+        camera: DepthCamera,
+        seed: u64,
+    ) -> Result<Self, SceneError> {
+        let mut world = PhysicsWorld::new();
+        world.gravity = Vector::new(0.0, 0.0, -9.81);
+        let params = &mut world.integration_parameters;
+        params.dt = config.physics.dt as Real;
+        params.num_solver_iterations = config.physics.solver_iterations;
+        // Recycled contacts let a moving finger tunnel through a jar on stale points.
+        params.contact_recycling = false;
+        cupboard.insert(&mut world);
+        let jars: Vec<JarHandles> = layout
+            .jars
+            .iter()
+            .enumerate()
+            .map(|(i, jar)| {
+                let (body, _) = jar.insert(&mut world, i, config.layout.jar_friction);
+                JarHandles { body }
+            })
+            .collect();
+        let hand = Hand::insert(&mut world, &config.hand, config.slice_height, &cupboard)?;
+        // Ray casts see nothing before the first step: a zero-length step builds the
+        // broad-phase tree and the contacts without moving anything.
+        let dt = world.integration_parameters.dt;
+        world.integration_parameters.dt = 0.0;
+        world.step();
+        world.integration_parameters.dt = dt;
+        let rest_poses = jars
+            .iter()
+            .map(|j| *world.bodies[j.body].position())
+            .collect();
+
+        let mut depth_rng = ChaCha8Rng::seed_from_u64(seed);
+        depth_rng.set_stream(DEPTH_NOISE_STREAM);
+        let mut touch_rng = ChaCha8Rng::seed_from_u64(seed);
+        touch_rng.set_stream(TOUCH_NOISE_STREAM);
+        let slice = SliceSpec {
+            height: config.slice_height,
+            band: config.camera.slice_band,
+            max_points: config.camera.max_slice_points,
+            noise_std: config.camera.noise_std,
+        };
+        let first_look = process_depth(&camera, camera.render(&world), slice, &mut depth_rng);
+        let mut scene = Self {
+            config,
+            seed,
+            cupboard,
+            layout,
+            camera,
+            world,
+            jars,
+            rest_poses,
+            hand,
+            first_look,
+            depth_rng,
+            touch_rng,
+            contacts_true: Vec::new(),
+            contacts: Vec::new(),
+            steps: 0,
+        };
+        scene.sense_touch();
+        Ok(scene)
+    }
+
+    fn sense_touch(&mut self) {
+        self.contacts_true =
+            finger_contacts(&self.world, self.hand.finger_collider(), &self.config.touch);
+        self.contacts = with_noise(&self.contacts_true, &self.config.touch, &mut self.touch_rng);
+    }
+
+    /// Moves the wrist by `command` (clipped to the configured bounds) over
+    /// `physics.substeps` physics steps, stopping at walls, then reads the touch sensor.
+    /// Fails only on a non-finite command. Cost: `substeps` physics steps.
+    pub fn step(&mut self, command: HandCommand) -> Result<StepReport, SceneError> {
+        for (what, value) in [
+            ("dx", command.dx),
+            ("dy", command.dy),
+            ("dyaw", command.dyaw),
+        ] {
+            if !value.is_finite() {
+                return Err(SceneError::NonFiniteCommand { what, value });
+            }
+        }
+        let h = &self.config.hand;
+        let clip = |v: f64, bound: f64| v.clamp(-bound, bound);
+        let commanded = HandCommand {
+            dx: clip(command.dx, h.max_step_translation),
+            dy: clip(command.dy, h.max_step_translation),
+            dyaw: clip(command.dyaw, h.max_step_yaw),
+        };
+        let start = self.hand.pose();
+        let goal = HandPose {
+            x: start.x + commanded.dx,
+            y: start.y + commanded.dy,
+            yaw: start.yaw + commanded.dyaw,
+        };
+        let substeps = self.config.physics.substeps;
+        let mut blocked = None;
+        for k in 1..=substeps {
+            if blocked.is_none() {
+                let s = k as f64 / substeps as f64;
+                let target = HandPose {
+                    x: start.x + s * (goal.x - start.x),
+                    y: start.y + s * (goal.y - start.y),
+                    yaw: start.yaw + s * (goal.yaw - start.yaw),
+                };
+                blocked = self.hand.advance(&mut self.world, target);
+            } else {
+                // Hold the reached pose (a kinematic body keeps its last target otherwise).
+                let here = self.hand.pose();
+                self.hand.advance(&mut self.world, here);
+            }
+            self.world.step();
+        }
+        self.steps += 1;
+        self.sense_touch();
+        let end = self.hand.pose();
+        Ok(StepReport {
+            commanded,
+            clipped: commanded != command,
+            moved: HandCommand {
+                dx: end.x - start.x,
+                dy: end.y - start.y,
+                dyaw: end.yaw - start.yaw,
+            },
+            blocked,
+        })
+    }
+
+    /// Runs `n` physics steps with the hand held still (no touch update). Cost: n steps.
+    pub fn idle(&mut self, n: usize) {
+        let here = self.hand.pose();
+        for _ in 0..n {
+            self.hand.advance(&mut self.world, here);
+            self.world.step();
+        }
+    }
+
+    /// Takes a new depth look at the current state (the hand is not seen), drawing fresh
+    /// noise; the first look taken at reset stays in [`Self::first_look`]. Cost: one render.
+    pub fn capture(&mut self) -> DepthCapture {
+        let slice = SliceSpec {
+            height: self.config.slice_height,
+            band: self.config.camera.slice_band,
+            max_points: self.config.camera.max_slice_points,
+            noise_std: self.config.camera.noise_std,
+        };
+        process_depth(
+            &self.camera,
+            self.camera.render(&self.world),
+            slice,
+            &mut self.depth_rng,
+        )
+    }
+
+    /// The depth camera's look at reset (paper: before reaching in).
+    pub fn first_look(&self) -> &DepthCapture {
+        &self.first_look
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &SceneConfig {
+        &self.config
+    }
+
+    /// The seed the scene was built from.
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// The layout (jar specs at reset, target, corridor, measured visibility).
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    /// Index of the target jar.
+    pub fn target(&self) -> usize {
+        self.layout.target
+    }
+
+    /// The cupboard.
+    pub fn cupboard(&self) -> &Cupboard {
+        &self.cupboard
+    }
+
+    /// The depth camera.
+    pub fn camera(&self) -> &DepthCamera {
+        &self.camera
+    }
+
+    /// Scene steps taken since reset.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// The commanded wrist pose.
+    pub fn hand_pose(&self) -> HandPose {
+        self.hand.pose()
+    }
+
+    /// The finger's joint position and yaw (wrist yaw + deflection).
+    pub fn finger_pose(&self) -> HandPose {
+        self.hand.finger_pose(&self.world)
+    }
+
+    /// Sensed finger deflection (joint angle), rad.
+    pub fn finger_angle(&self) -> f64 {
+        self.hand.finger_angle(&self.world)
+    }
+
+    /// The tactile readings after the last step, with noise.
+    pub fn contacts(&self) -> &[Contact] {
+        &self.contacts
+    }
+
+    /// The same readings without noise (ground truth).
+    pub fn true_contacts(&self) -> &[Contact] {
+        &self.contacts_true
+    }
+
+    /// Every jar's current state and disturbance since reset.
+    pub fn jar_states(&self) -> Vec<JarState> {
+        self.jars
+            .iter()
+            .zip(&self.layout.jars)
+            .zip(&self.rest_poses)
+            .map(|((handles, spec), rest)| {
+                let pose = *self.world.bodies[handles.body].position();
+                let t = pose.translation;
+                let q = pose.rotation;
+                JarState {
+                    spec: *spec,
+                    position: [f64::from(t.x), f64::from(t.y), f64::from(t.z)],
+                    rotation: [q.x, q.y, q.z, q.w].map(f64::from),
+                    disturbance: Disturbance::between(rest, &pose),
+                }
+            })
+            .collect()
+    }
+
+    /// Every body's pose and velocity, the hand pose and the touch readings, flattened: two
+    /// scenes with equal vectors are in the same state (used to check determinism).
+    pub fn state_vector(&self) -> Vec<f64> {
+        let mut out = Vec::new();
+        for (_, body) in self.world.bodies.iter() {
+            let p = body.position();
+            out.extend([p.translation.x, p.translation.y, p.translation.z].map(f64::from));
+            out.extend([p.rotation.x, p.rotation.y, p.rotation.z, p.rotation.w].map(f64::from));
+            let (v, w) = (body.linvel(), body.angvel());
+            out.extend([v.x, v.y, v.z, w.x, w.y, w.z].map(f64::from));
+        }
+        let hand = self.hand.pose();
+        out.extend([hand.x, hand.y, hand.yaw, self.finger_angle()]);
+        for c in &self.contacts {
+            out.extend([
+                c.point[0],
+                c.point[1],
+                c.normal[0],
+                c.normal[1],
+                c.jar as f64,
+            ]);
+        }
+        out
+    }
+}

@@ -1,0 +1,98 @@
+//! Bad configuration and bad layouts are refused with typed errors that say what was expected
+//! and what came, never a panic.
+
+use env_core::scene::{
+    JarShape, JarSpec, Layout, Scene, SceneConfig, SceneError, TargetShape, Visibility,
+};
+
+fn error_of(config: SceneConfig) -> SceneError {
+    match Scene::new(config, 0) {
+        Ok(_) => panic!("accepted a bad config"),
+        Err(e) => e,
+    }
+}
+
+#[test]
+fn bad_configs_are_refused_with_their_name_in_the_message() {
+    let mut c = SceneConfig::default();
+    c.layout.jar_count = [5, 3];
+    assert!(error_of(c).to_string().contains("jar_count high"));
+    let mut c = SceneConfig::default();
+    c.layout.jar_count = [3, 8];
+    assert!(error_of(c).to_string().contains("[jar_count low, 7]"));
+    let mut c = SceneConfig::default();
+    c.camera.noise_std = -1.0;
+    assert!(error_of(c).to_string().contains("noise_std"));
+    let mut c = SceneConfig::default();
+    c.hand.finger_stiffness = f64::NAN;
+    assert!(matches!(
+        error_of(c),
+        SceneError::NonFinite {
+            what: "finger_stiffness",
+            ..
+        }
+    ));
+    let mut c = SceneConfig::default();
+    c.camera.look_at = c.camera.position;
+    assert!(matches!(
+        error_of(c),
+        SceneError::DegenerateCameraPose { .. }
+    ));
+    let mut c = SceneConfig::default();
+    c.camera.intrinsics.width = 0;
+    assert!(error_of(c).to_string().contains("camera width"));
+    let mut c = SceneConfig::default();
+    c.hand.start = [0.29, 0.1, 0.0];
+    assert!(matches!(error_of(c), SceneError::HandStartBlocked { .. }));
+    let c = SceneConfig {
+        slice_height: 0.2,
+        ..Default::default()
+    };
+    assert!(error_of(c).to_string().contains("slice_height"));
+    assert!(TargetShape::parse("triangle")
+        .unwrap_err()
+        .to_string()
+        .contains("'round'"));
+}
+
+#[test]
+fn an_impossible_layout_request_fails_after_its_attempts() {
+    let mut c = SceneConfig::default();
+    c.layout.jar_count = [7, 7];
+    c.layout.corridor_width = 0.5;
+    c.layout.max_attempts = 20;
+    assert!(matches!(
+        error_of(c),
+        SceneError::LayoutNotFound { attempts: 20, .. }
+    ));
+}
+
+#[test]
+fn bad_explicit_layouts_are_refused() {
+    let jar = |x: f64, y: f64| JarSpec {
+        shape: JarShape::Round { radius: 0.025 },
+        height: 0.11,
+        mass: 0.15,
+        x,
+        y,
+        yaw: 0.0,
+    };
+    let layout = |jars: Vec<JarSpec>, target: usize| Layout {
+        jars,
+        target,
+        corridor: None,
+        visibility: Visibility::default(),
+    };
+    for (bad, needle) in [
+        (layout(vec![jar(0.0, 0.1), jar(0.01, 0.1)], 0), "overlap"),
+        (layout(vec![jar(0.0, 0.1)], 1), "target index"),
+        (layout(vec![jar(0.29, 0.1)], 0), "inside the interior"),
+        (layout(vec![], 0), "1 to 7 jars"),
+        (layout(vec![jar(f64::NAN, 0.1)], 0), "non-finite"),
+    ] {
+        match Scene::from_layout(SceneConfig::default(), bad, 0) {
+            Ok(_) => panic!("accepted a bad layout ({needle})"),
+            Err(e) => assert!(e.to_string().contains(needle), "{e}"),
+        }
+    }
+}
