@@ -1,8 +1,10 @@
 """Property-based checks of ``Gpis`` (hypothesis): whatever finite observations inside the
-bounds arrive, in whatever batches, the grids stay finite and equal a full recompute, and
-the variance never grows."""
+bounds arrive, in whatever batches, the grids stay finite and the variance never grows; with
+noisy data they also equal a full recompute."""
 
 from __future__ import annotations
+
+import os
 
 import numpy as np
 from hypothesis import given, settings
@@ -37,7 +39,7 @@ def batches(draw: st.DrawFn) -> list[tuple[str, np.ndarray, np.ndarray, float]]:
     return result
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=int(os.environ.get("HYPOTHESIS_EXAMPLES", "60")), deadline=None)
 @given(batches=batches(), prior_mean=st.sampled_from([0.0, 0.02]))
 def test_any_sequence_keeps_grids_finite_exact_and_variance_shrinking(
     batches: list, prior_mean: float
@@ -55,7 +57,16 @@ def test_any_sequence_keeps_grids_finite_exact_and_variance_shrinking(
         assert np.all(np.isfinite(gpis.mean)) and np.all(np.isfinite(gpis.variance))
         assert np.all(gpis.variance <= previous_variance + 1e-9)
         previous_variance = gpis.variance
+    if min(noise for *_, noise in batches) == 0.0:
+        # Noise-free points a few micrometres apart (say f(0) = 0 and a contact 61 um away)
+        # give K a condition number near 1e12: then the incremental update and the full
+        # recompute both miss a 50-digit reference by ~4e-5, and neither is "the" answer.
+        # Such data must stay finite with shrinking variance (checked above), no more.
+        return
+    # With noise >= 1e-4 (coincident contacts with opposite normals still give kappa ~ 1e9),
+    # two exact algorithms agree to about kappa * eps; realistic data agree to 1e-9 (the
+    # Rust tests).
     mean, variance = gpis.recompute_from_scratch()
     scale = 1.0 + np.abs(mean).max()
-    np.testing.assert_allclose(gpis.mean, mean, atol=1e-7 * scale, rtol=0)
-    np.testing.assert_allclose(gpis.variance, variance, atol=1e-7 * gpis.psi**3, rtol=0)
+    np.testing.assert_allclose(gpis.mean, mean, atol=1e-6 * scale, rtol=0)
+    np.testing.assert_allclose(gpis.variance, variance, atol=1e-6 * gpis.psi**3, rtol=0)

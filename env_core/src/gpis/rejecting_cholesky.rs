@@ -12,7 +12,10 @@ use std::ops::Range;
 
 /// A pivot at or below this fraction of its row's prior variance means the row is (nearly)
 /// a linear combination of rows already in the map: accepting it would wreck conditioning.
-pub(crate) const DEGENERATE_RELATIVE_TOLERANCE: f64 = 1e-10;
+/// For a value row with ψ ≈ 1 m this rejects a noise-free point whose remaining standard
+/// deviation is below ~0.1 mm (one within ~40 µm of another noise-free point). Noisy rows
+/// never come near it: their pivot includes their noise variance.
+pub(crate) const DEGENERATE_RELATIVE_TOLERANCE: f64 = 1e-8;
 
 /// The rows of one observation and the test that may skip it.
 pub(crate) struct RowGroup {
