@@ -8,7 +8,7 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use env_core::scene::{
-    Cupboard, DepthCamera, HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig, Visibility,
+    Cupboard, DepthCamera, HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig,
 };
 
 /// A scene whose finger is pressed 8 mm into a round jar's side (deflected, in contact).
@@ -23,12 +23,7 @@ fn pressed_scene() -> Scene {
     };
     let mut config = SceneConfig::default();
     config.hand.start = [-0.034, 0.063, 0.0];
-    let layout = Layout {
-        jars: vec![jar],
-        target: 0,
-        corridor: None,
-        visibility: Visibility::default(),
-    };
+    let layout = Layout::lone_jar(jar);
     let mut scene = Scene::from_layout(config, layout, 0).expect("scene builds");
     for _ in 0..7 {
         scene

@@ -3,7 +3,7 @@
 //! jump, twice as much) and it settles back to zero, while a finger held pressed on a jar stays
 //! deflected, with its reading, at rest.
 
-use env_core::scene::{HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig, Visibility};
+use env_core::scene::{HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig};
 
 fn one_jar(config: SceneConfig) -> Scene {
     let jar = JarSpec {
@@ -14,12 +14,7 @@ fn one_jar(config: SceneConfig) -> Scene {
         y: 0.15,
         yaw: 0.0,
     };
-    let layout = Layout {
-        jars: vec![jar],
-        target: 0,
-        corridor: None,
-        visibility: Visibility::default(),
-    };
+    let layout = Layout::lone_jar(jar);
     Scene::from_layout(config, layout, 0).expect("scene builds")
 }
 

@@ -3,8 +3,7 @@
 //! leave the hand stuck; oversize commands are clipped; non-finite ones are refused.
 
 use env_core::scene::{
-    Blocker, HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig, SceneError, Visibility,
-    Wall,
+    Blocker, HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig, SceneError, Wall,
 };
 
 /// One jar tucked in the back-left corner, out of the way.
@@ -17,12 +16,7 @@ fn open_scene() -> Scene {
         y: 0.26,
         yaw: 0.0,
     };
-    let layout = Layout {
-        jars: vec![jar],
-        target: 0,
-        corridor: None,
-        visibility: Visibility::default(),
-    };
+    let layout = Layout::lone_jar(jar);
     Scene::from_layout(SceneConfig::default(), layout, 0).expect("scene builds")
 }
 

@@ -6,9 +6,7 @@
 mod common;
 
 use common::{angle_deg, JarGeom};
-use env_core::scene::{
-    Contact, HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig, Visibility,
-};
+use env_core::scene::{Contact, HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig};
 
 /// Presses the finger's +x side onto a jar centred at (0, 0.15) from a gap of 6 mm, then
 /// slides along it and back; returns the readings of every step with the jar's pose at that
@@ -30,12 +28,7 @@ fn press_and_slide(shape: JarShape, yaw: f64) -> (Vec<(Vec<Contact>, JarGeom)>, 
     // The jar's centre faces the finger 70 % along its length.
     let joint_offset = config.hand.wrist_half_extent + 0.002;
     config.hand.start = [x0, 0.15 - 0.07 - joint_offset, 0.0];
-    let layout = Layout {
-        jars: vec![jar],
-        target: 0,
-        corridor: None,
-        visibility: Visibility::default(),
-    };
+    let layout = Layout::lone_jar(jar);
     let mut scene = Scene::from_layout(config, layout, 0).expect("scene builds");
     let mut readings = Vec::new();
     let script = (0..10)

@@ -2,7 +2,7 @@
 //! 2 cm each way along a jar at the default stiffness moves the jar less than 2 mm (the finger deflects and
 //! the deflection is sensed), while the same sweep with a rigid finger moves it more than 1 cm.
 
-use env_core::scene::{HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig, Visibility};
+use env_core::scene::{HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig};
 
 /// Runs the sweep; returns the jar's largest displacement, its largest tilt and the finger's
 /// largest deflection, and the number of steps with a reading.
@@ -19,12 +19,7 @@ fn sweep(shape: JarShape, rigid: bool) -> (f64, f64, f64, usize) {
     config.hand.rigid_finger = rigid;
     let x0 = -(jar.half_extent_x() + config.hand.finger_half_thickness + 0.006);
     config.hand.start = [x0, 0.15 - 0.07 - config.hand.wrist_half_extent - 0.002, 0.0];
-    let layout = Layout {
-        jars: vec![jar],
-        target: 0,
-        corridor: None,
-        visibility: Visibility::default(),
-    };
+    let layout = Layout::lone_jar(jar);
     let mut scene = Scene::from_layout(config, layout, 0).expect("scene builds");
     let script = (0..9)
         .map(|_| HandCommand {

@@ -55,6 +55,20 @@ pub struct Layout {
     pub visibility: Visibility,
 }
 
+impl Layout {
+    /// A layout of one jar, which is the target, with no corridor: the fixture of touch,
+    /// deflection and wall experiments. Its visibility is measured when a scene is built
+    /// from it ([`crate::scene::Scene::from_layout`]).
+    pub fn lone_jar(jar: JarSpec) -> Self {
+        Self {
+            jars: vec![jar],
+            target: 0,
+            corridor: None,
+            visibility: Visibility::default(),
+        }
+    }
+}
+
 fn uniform(rng: &mut ChaCha8Rng, [lo, hi]: [f64; 2]) -> f64 {
     lo + (hi - lo) * rng.random::<f64>()
 }
