@@ -1,0 +1,366 @@
+//! One mechanical-search episode: the scene, the map built from its depth and touch, the
+//! reward and the episode end (design notes §4).
+//!
+//! reset(seed): new layout, first depth look, GPIS prior from the depth slice, hand at the
+//! opening. step(action): scale and clip the wrist motion, step the scene (several physics
+//! substeps), add the new contacts to the map (skipping uninformative ones), then reward,
+//! termination and metrics.
+
+use super::config::{EpisodeConfig, MapMode};
+use super::error::EpisodeError;
+use super::map_image::{encode_gpis, encode_occupancy};
+use super::metrics::{footprint_mask, iou};
+use super::occupancy::OccupancyGrid;
+use super::prior::depth_prior;
+use crate::gpis::{Gpis, GpisConfig, GridSpec};
+use crate::scene::{Contact, HandCommand, Scene};
+
+/// Length of the proprioception vector; see [`Episode::write_proprio`].
+pub const PROPRIO_LEN: usize = 11;
+
+/// What one step did: the reward term by term, the episode end, and the metrics.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StepInfo {
+    /// Total reward: the sum of the four terms below.
+    pub reward: f64,
+    /// `reward.success` when the finger touched the target this step, else 0.
+    pub reward_success: f64,
+    /// `−reward.step_cost`.
+    pub reward_step: f64,
+    /// `−reward.displacement ·` the jar displacement added this step (m, summed over jars).
+    pub reward_displacement: f64,
+    /// `−reward.tip` when a jar tipped over this step, else 0.
+    pub reward_tip: f64,
+    /// The episode ended (success or a tipped jar).
+    pub terminated: bool,
+    /// The finger touched the target.
+    pub success: bool,
+    /// A jar tipped over.
+    pub tipped: bool,
+    /// Steps since reset.
+    pub steps: usize,
+    /// Planar displacement since reset, summed over jars, m.
+    pub jar_displacement: f64,
+    /// Largest jar displacement since reset, m.
+    pub max_jar_displacement: f64,
+    /// Largest jar tilt now, rad.
+    pub max_tilt: f64,
+    /// Jars tipped over now.
+    pub tips: usize,
+    /// Tactile readings this step.
+    pub contacts: usize,
+    /// GP rows the readings added.
+    pub rows_added: usize,
+    /// Readings skipped as uninformative (or rejected as degenerate).
+    pub contacts_skipped: usize,
+    /// Readings dropped because the map was full.
+    pub contacts_dropped: usize,
+    /// GP rows held.
+    pub gpis_rows: usize,
+    /// IoU of the map's interior against the true jar footprints (0 without a map).
+    pub iou: f64,
+    /// The action was outside [−1, 1] and was clipped.
+    pub clipped: bool,
+    /// A wall (or the workspace edge) stopped the hand.
+    pub blocked: bool,
+}
+
+/// One episode. Reusable: [`Episode::reset`] keeps the map's storage.
+pub struct Episode {
+    config: EpisodeConfig,
+    grid: GridSpec,
+    scene: Scene,
+    gpis: Option<Gpis>,
+    occupancy: Option<OccupancyGrid>,
+    steps: usize,
+    displacement_sum: f64,
+    ended: bool,
+    truth: Vec<bool>,
+    last_info: StepInfo,
+}
+
+impl Episode {
+    /// Validates `config` and starts the episode of `seed`.
+    pub fn new(config: EpisodeConfig, seed: u64) -> Result<Self, EpisodeError> {
+        config.validate()?;
+        let grid = GridSpec::new(config.map_bounds(), config.map.grid_shape)?;
+        let gpis = match config.map.mode {
+            MapMode::Gpis => Some(Gpis::new(GpisConfig {
+                bounds: grid.bounds(),
+                shape: grid.shape(),
+                psi: None,
+                prior_mean: config.map.prior_mean,
+                max_rows: config.map.max_rows,
+            })?),
+            MapMode::Occupancy | MapMode::None => None,
+        };
+        let occupancy =
+            (config.map.mode == MapMode::Occupancy).then(|| OccupancyGrid::new(grid.clone()));
+        let scene = Scene::new(config.scene.clone(), seed)?;
+        let mut episode = Self {
+            config,
+            grid,
+            scene,
+            gpis,
+            occupancy,
+            steps: 0,
+            displacement_sum: 0.0,
+            ended: false,
+            truth: Vec::new(),
+            last_info: StepInfo::default(),
+        };
+        episode.start()?;
+        Ok(episode)
+    }
+
+    /// Starts the episode of `seed` (new layout, new first look, new prior).
+    pub fn reset(&mut self, seed: u64) -> Result<(), EpisodeError> {
+        self.scene = Scene::new(self.config.scene.clone(), seed)?;
+        self.start()
+    }
+
+    fn camera_xy(&self) -> [f64; 2] {
+        let p = self.scene.camera().position();
+        [p[0], p[1]]
+    }
+
+    fn start(&mut self) -> Result<(), EpisodeError> {
+        self.steps = 0;
+        self.displacement_sum = 0.0;
+        self.ended = false;
+        let camera = self.camera_xy();
+        let slice = &self.scene.first_look().slice;
+        if let Some(gpis) = &mut self.gpis {
+            gpis.clear();
+            let prior = depth_prior(slice, camera, &self.grid, &self.config.map)?;
+            // Keep room for touch: the prior takes at most half the rows.
+            let budget = prior.len().min(self.config.map.max_rows / 2);
+            gpis.add(&prior[..budget], None)?;
+        }
+        if let Some(occupancy) = &mut self.occupancy {
+            occupancy.clear();
+            for &hit in slice {
+                occupancy.add_ray(camera, hit);
+            }
+        }
+        self.add_touch();
+        let (info, _) = self.measure();
+        self.last_info = info;
+        Ok(())
+    }
+
+    /// Adds this step's readings to the map; returns (readings, rows added, skipped,
+    /// dropped).
+    fn add_touch(&mut self) -> (usize, usize, usize, usize) {
+        let bounds = &self.grid;
+        let readings: Vec<Contact> = self
+            .scene
+            .contacts()
+            .iter()
+            .copied()
+            .filter(|c| bounds.contains(c.point))
+            .collect();
+        let count = self.scene.contacts().len();
+        if let Some(occupancy) = &mut self.occupancy {
+            for c in &readings {
+                occupancy.add_contact(c.point, c.normal);
+            }
+        }
+        let Some(gpis) = &mut self.gpis else {
+            return (count, 0, 0, 0);
+        };
+        let fit = readings.len().min(gpis.free_rows() / 3);
+        let points: Vec<[f64; 2]> = readings[..fit].iter().map(|c| c.point).collect();
+        let normals: Vec<[f64; 2]> = readings[..fit].iter().map(|c| c.normal).collect();
+        let map = &self.config.map;
+        let report = gpis
+            .add_contacts(
+                &points,
+                &normals,
+                map.contact_noise_std,
+                map.normal_noise_std,
+                Some(map.skip_below_variance),
+            )
+            .expect("contacts are finite, inside the bounds and fit the capacity");
+        let skipped = report.skipped_uninformative + report.rejected_degenerate;
+        (count, report.added_rows, skipped, readings.len() - fit)
+    }
+
+    /// Metrics of the current state; also returns the displacement added since last call.
+    fn measure(&mut self) -> (StepInfo, f64) {
+        let jars = self.scene.jar_states();
+        let mut info = StepInfo {
+            steps: self.steps,
+            ..StepInfo::default()
+        };
+        for jar in &jars {
+            let d = &jar.disturbance;
+            info.jar_displacement += d.displacement;
+            info.max_jar_displacement = info.max_jar_displacement.max(d.displacement);
+            info.max_tilt = info.max_tilt.max(d.tilt);
+            info.tips += usize::from(d.tilt > self.config.tip_angle);
+        }
+        let added = (info.jar_displacement - self.displacement_sum).max(0.0);
+        self.displacement_sum = info.jar_displacement;
+        info.tipped = info.tips > 0;
+        let target = self.scene.target();
+        info.success = self.scene.true_contacts().iter().any(|c| c.jar == target);
+        footprint_mask(&self.grid, &jars, &mut self.truth);
+        if let Some(gpis) = &self.gpis {
+            info.gpis_rows = gpis.n_rows();
+            info.iou = iou(gpis.mean_grid().iter().map(|&m| m < 0.0), &self.truth);
+        } else if let Some(occupancy) = &self.occupancy {
+            let occupied = (0..self.truth.len()).map(|i| occupancy.probability(i) > 0.5);
+            info.iou = iou(occupied, &self.truth);
+        }
+        (info, added)
+    }
+
+    /// Takes one step. `action` is in [−1, 1]³ (dx, dy, dyaw), scaled by the hand's
+    /// `max_step_translation` and `max_step_yaw`; components outside are clipped (and
+    /// reported). Fails on a non-finite action or after the episode has ended.
+    pub fn step(&mut self, action: [f64; 3]) -> Result<StepInfo, EpisodeError> {
+        if let Some((index, &value)) = action.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(EpisodeError::NonFiniteAction { index, value });
+        }
+        if self.ended {
+            return Err(EpisodeError::Ended);
+        }
+        let clipped = action.iter().any(|v| v.abs() > 1.0);
+        let [ax, ay, ayaw] = action.map(|v| v.clamp(-1.0, 1.0));
+        let hand = &self.config.scene.hand;
+        let report = self.scene.step(HandCommand {
+            dx: ax * hand.max_step_translation,
+            dy: ay * hand.max_step_translation,
+            dyaw: ayaw * hand.max_step_yaw,
+        })?;
+        self.steps += 1;
+        let (contacts, rows_added, contacts_skipped, contacts_dropped) = self.add_touch();
+        let (mut info, added_displacement) = self.measure();
+        let weights = &self.config.reward;
+        info.reward_success = if info.success { weights.success } else { 0.0 };
+        info.reward_step = -weights.step_cost;
+        info.reward_displacement = -weights.displacement * added_displacement;
+        info.reward_tip = if info.tipped { -weights.tip } else { 0.0 };
+        info.reward =
+            info.reward_success + info.reward_step + info.reward_displacement + info.reward_tip;
+        info.terminated = info.success || info.tipped;
+        info.contacts = contacts;
+        info.rows_added = rows_added;
+        info.contacts_skipped = contacts_skipped;
+        info.contacts_dropped = contacts_dropped;
+        info.clipped = clipped;
+        info.blocked = report.blocked.is_some();
+        self.ended = info.terminated;
+        self.last_info = info;
+        Ok(info)
+    }
+
+    /// Values in the map image: 2·H·W (0 in the `none` mode).
+    pub fn map_len(&self) -> usize {
+        match self.config.map.mode {
+            MapMode::None => 0,
+            MapMode::Gpis | MapMode::Occupancy => 2 * self.grid.n_cells(),
+        }
+    }
+
+    /// Writes the map image (2 × H × W, channel first; see [`super::map_image`]).
+    pub fn write_map(&self, out: &mut [u8]) -> Result<(), EpisodeError> {
+        check_length("map", self.map_len(), out.len())?;
+        let map = &self.config.map;
+        if let Some(gpis) = &self.gpis {
+            encode_gpis(gpis, map.mean_scale, map.std_scale, out);
+        } else if let Some(occupancy) = &self.occupancy {
+            encode_occupancy(occupancy, out);
+        }
+        Ok(())
+    }
+
+    /// Writes the proprioception and touch vector, all entries in [−1, 1]:
+    /// `[x, y, cos yaw, sin yaw, deflection, in_contact, contact_dx, contact_dy, normal_x,
+    /// normal_y, time_left]`. x and y are the wrist's position scaled to its workspace;
+    /// deflection is the finger angle over its limit; the contact entries are the first
+    /// reading's offset from the wrist (over the finger length) and its normal, zeros
+    /// without contact; time_left is 1 − steps / max_steps, floored at −1.
+    pub fn write_proprio(&self, out: &mut [f32]) -> Result<(), EpisodeError> {
+        check_length("proprio", PROPRIO_LEN, out.len())?;
+        let hand = &self.config.scene.hand;
+        let pose = self.scene.hand_pose();
+        let [[x0, x1], [y0, y1]] = hand.workspace;
+        let scaled = |v: f64, lo: f64, hi: f64| (2.0 * (v - lo) / (hi - lo) - 1.0).clamp(-1.0, 1.0);
+        let deflection = (self.scene.finger_angle() / hand.finger_limit).clamp(-1.0, 1.0);
+        let (in_contact, dx, dy, nx, ny) = match self.scene.contacts().first() {
+            Some(c) => {
+                let reach = hand.finger_length;
+                (
+                    1.0,
+                    ((c.point[0] - pose.x) / reach).clamp(-1.0, 1.0),
+                    ((c.point[1] - pose.y) / reach).clamp(-1.0, 1.0),
+                    c.normal[0],
+                    c.normal[1],
+                )
+            }
+            None => (0.0, 0.0, 0.0, 0.0, 0.0),
+        };
+        let time_left = (1.0 - self.steps as f64 / self.config.max_steps as f64).max(-1.0);
+        let values = [
+            scaled(pose.x, x0, x1),
+            scaled(pose.y, y0, y1),
+            pose.yaw.cos(),
+            pose.yaw.sin(),
+            deflection,
+            in_contact,
+            dx,
+            dy,
+            nx,
+            ny,
+            time_left,
+        ];
+        for (slot, v) in out.iter_mut().zip(values) {
+            *slot = v as f32;
+        }
+        Ok(())
+    }
+
+    /// The metrics of the last reset or step.
+    pub fn last_info(&self) -> &StepInfo {
+        &self.last_info
+    }
+
+    /// The scene (ground truth for rendering and tests).
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The GPIS map, in the `gpis` mode.
+    pub fn gpis(&self) -> Option<&Gpis> {
+        self.gpis.as_ref()
+    }
+
+    /// The occupancy grid, in the `occupancy` mode.
+    pub fn occupancy(&self) -> Option<&OccupancyGrid> {
+        self.occupancy.as_ref()
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &EpisodeConfig {
+        &self.config
+    }
+
+    /// The map grid.
+    pub fn grid(&self) -> &GridSpec {
+        &self.grid
+    }
+}
+
+fn check_length(what: &'static str, expected: usize, got: usize) -> Result<(), EpisodeError> {
+    if expected == got {
+        Ok(())
+    } else {
+        Err(EpisodeError::BufferLength {
+            what,
+            expected,
+            got,
+        })
+    }
+}

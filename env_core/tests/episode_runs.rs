@@ -1,0 +1,197 @@
+//! Episodes are deterministic, finite, solvable, and the batch equals single episodes.
+
+use env_core::episode::{
+    oracle_action, Episode, EpisodeBatch, EpisodeConfig, EpisodeError, MapMode, StepInfo,
+    PROPRIO_LEN,
+};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+fn config(mode: MapMode) -> EpisodeConfig {
+    let mut config = EpisodeConfig::default();
+    config.map.mode = mode;
+    config
+}
+
+fn observe(episode: &Episode) -> (Vec<u8>, Vec<f32>) {
+    let mut map = vec![0u8; episode.map_len()];
+    let mut proprio = vec![0f32; PROPRIO_LEN];
+    episode.write_map(&mut map).unwrap();
+    episode.write_proprio(&mut proprio).unwrap();
+    (map, proprio)
+}
+
+fn random_actions(seed: u64, count: usize) -> Vec<[f64; 3]> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..count)
+        .map(|_| [0; 3].map(|_| rng.random_range(-1.0..1.0)))
+        .collect()
+}
+
+fn assert_finite(info: &StepInfo) {
+    let values = [
+        info.reward,
+        info.reward_success,
+        info.reward_step,
+        info.reward_displacement,
+        info.reward_tip,
+        info.jar_displacement,
+        info.max_jar_displacement,
+        info.max_tilt,
+        info.iou,
+    ];
+    assert!(values.iter().all(|v| v.is_finite()), "{info:?}");
+    let sum = info.reward_success + info.reward_step + info.reward_displacement + info.reward_tip;
+    assert!((info.reward - sum).abs() < 1e-12);
+}
+
+#[test]
+fn same_seed_and_actions_give_identical_observations_in_every_mode() {
+    for mode in [MapMode::Gpis, MapMode::Occupancy, MapMode::None] {
+        let actions = random_actions(1, 40);
+        let run = || {
+            let mut episode = Episode::new(config(mode), 5).unwrap();
+            let mut trace = vec![observe(&episode)];
+            for &a in &actions {
+                match episode.step(a) {
+                    Ok(info) if !info.terminated => trace.push(observe(&episode)),
+                    _ => break,
+                }
+            }
+            trace
+        };
+        assert_eq!(run(), run(), "mode {mode:?}");
+    }
+}
+
+#[test]
+fn random_play_keeps_observations_and_rewards_finite() {
+    for seed in 0..6 {
+        let mut episode = Episode::new(config(MapMode::Gpis), seed).unwrap();
+        for (k, action) in random_actions(seed, 60).into_iter().enumerate() {
+            let info = episode.step(action.map(|v| 3.0 * v)).unwrap();
+            assert_finite(&info);
+            assert!(info.clipped || action.iter().all(|v| v.abs() <= 1.0 / 3.0));
+            let (_, proprio) = observe(&episode);
+            assert!(
+                proprio.iter().all(|v| v.is_finite() && v.abs() <= 1.0),
+                "{k}: {proprio:?}"
+            );
+            if info.terminated {
+                assert!(matches!(episode.step([0.0; 3]), Err(EpisodeError::Ended)));
+                break;
+            }
+        }
+    }
+}
+
+#[test]
+fn the_oracle_touches_the_target_without_tipping_in_nearly_every_episode() {
+    let mut successes = 0;
+    let seeds: usize = 40;
+    for seed in 0..seeds as u64 {
+        let mut episode = Episode::new(config(MapMode::Gpis), seed).unwrap();
+        for _ in 0..200 {
+            let info = episode.step(oracle_action(&episode)).unwrap();
+            assert_finite(&info);
+            if info.terminated {
+                successes += usize::from(info.success && !info.tipped);
+                assert!(info.reward_success > 0.0 || !info.success);
+                break;
+            }
+        }
+    }
+    assert!(
+        successes * 100 >= 95 * seeds,
+        "{successes} of {seeds} episodes succeeded"
+    );
+}
+
+#[test]
+fn touch_adds_rows_to_the_map_and_the_map_tracks_the_jars() {
+    let mut episode = Episode::new(config(MapMode::Gpis), 3).unwrap();
+    let prior_rows = episode.last_info().gpis_rows;
+    let prior_iou = episode.last_info().iou;
+    assert!(prior_rows > 0);
+    let mut last = *episode.last_info();
+    for _ in 0..200 {
+        last = episode.step(oracle_action(&episode)).unwrap();
+        if last.terminated {
+            break;
+        }
+    }
+    assert!(last.success);
+    assert!(
+        last.gpis_rows > prior_rows,
+        "touch added rows: {prior_rows} -> {}",
+        last.gpis_rows
+    );
+    assert!((0.0..=1.0).contains(&prior_iou) && (0.0..=1.0).contains(&last.iou));
+}
+
+#[test]
+fn the_batch_equals_single_episodes_whatever_the_thread_count() {
+    for mode in [MapMode::Gpis, MapMode::None] {
+        let seeds = [0, 1, 2];
+        let mut singles: Vec<Episode> = seeds
+            .iter()
+            .map(|&s| Episode::new(config(mode), s).unwrap())
+            .collect();
+        let mut batch = EpisodeBatch::new(config(mode), &seeds, Some(2)).unwrap();
+        let map_len = singles[0].map_len();
+        let mut maps = vec![0u8; seeds.len() * map_len];
+        let mut proprio = vec![0f32; seeds.len() * PROPRIO_LEN];
+        for step in 0..15 {
+            let actions: Vec<[f64; 3]> = singles
+                .iter()
+                .map(|e| oracle_action(e).map(|v| 0.7 * v))
+                .collect();
+            let results = batch.step(&actions, &mut maps, &mut proprio).unwrap();
+            for (i, episode) in singles.iter_mut().enumerate() {
+                let single = episode.step(actions[i]);
+                assert_eq!(
+                    single, results[i],
+                    "mode {mode:?}, step {step}, episode {i}"
+                );
+                let (map, own) = observe(episode);
+                assert_eq!(map, maps[i * map_len..(i + 1) * map_len]);
+                assert_eq!(own, proprio[i * PROPRIO_LEN..(i + 1) * PROPRIO_LEN]);
+            }
+        }
+    }
+}
+
+#[test]
+fn bad_actions_and_configs_are_refused() {
+    let mut episode = Episode::new(config(MapMode::Gpis), 0).unwrap();
+    assert!(matches!(
+        episode.step([0.0, f64::NAN, 0.0]),
+        Err(EpisodeError::NonFiniteAction { index: 1, .. })
+    ));
+    let mut bad = config(MapMode::Gpis);
+    bad.map.grid_shape = (40, 60);
+    assert!(matches!(
+        Episode::new(bad, 0),
+        Err(EpisodeError::GridShape { .. })
+    ));
+    let mut small = config(MapMode::Gpis);
+    small.map.grid_shape = (20, 40);
+    assert!(matches!(
+        Episode::new(small, 0),
+        Err(EpisodeError::GridShape { .. })
+    ));
+    let mut negative = config(MapMode::Gpis);
+    negative.reward.step_cost = -1.0;
+    assert!(matches!(
+        Episode::new(negative, 0),
+        Err(EpisodeError::OutOfRange {
+            what: "reward_step_cost",
+            ..
+        })
+    ));
+    let mut map = vec![0u8; 3];
+    assert!(matches!(
+        episode.write_map(&mut map),
+        Err(EpisodeError::BufferLength { .. })
+    ));
+}
