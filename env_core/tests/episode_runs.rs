@@ -146,11 +146,13 @@ fn the_batch_equals_single_episodes_whatever_the_thread_count() {
                 .iter()
                 .map(|e| oracle_action(e).map(|v| 0.7 * v))
                 .collect();
-            let results = batch.step(&actions, &mut maps, &mut proprio).unwrap();
+            let requested: Vec<_> = actions.iter().copied().map(Some).collect();
+            let results = batch.step(&requested, &mut maps, &mut proprio).unwrap();
             for (i, episode) in singles.iter_mut().enumerate() {
                 let single = episode.step(actions[i]);
                 assert_eq!(
-                    single, results[i],
+                    Some(single),
+                    results[i].clone(),
                     "mode {mode:?}, step {step}, episode {i}"
                 );
                 let (map, own) = observe(episode);
@@ -159,6 +161,24 @@ fn the_batch_equals_single_episodes_whatever_the_thread_count() {
             }
         }
     }
+}
+
+#[test]
+fn a_batch_leaves_episodes_without_an_action_untouched() {
+    let seeds = [4, 5];
+    let mut batch = EpisodeBatch::new(config(MapMode::Gpis), &seeds, Some(2)).unwrap();
+    let map_len = batch.episodes()[0].map_len();
+    let mut maps = vec![0u8; 2 * map_len];
+    let mut proprio = vec![0f32; 2 * PROPRIO_LEN];
+    batch.write_observations(&mut maps, &mut proprio).unwrap();
+    let before = maps[map_len..].to_vec();
+    let results = batch
+        .step(&[Some([1.0, 1.0, 0.0]), None], &mut maps, &mut proprio)
+        .unwrap();
+    assert!(matches!(results[0], Some(Ok(_))));
+    assert!(results[1].is_none());
+    assert_eq!(batch.episodes()[1].last_info().steps, 0);
+    assert_eq!(maps[map_len..], before[..]);
 }
 
 #[test]

@@ -4,7 +4,20 @@ The Rust core (``tactile_search._core``) runs the GPIS, the physics and the epis
 package is its Python face.
 """
 
+import gymnasium
+
 from tactile_search._core import __version__
+from tactile_search.envs import CupboardSearchEnv, CupboardSearchVectorEnv
 from tactile_search.gpis import Gpis
 
-__all__ = ["Gpis", "__version__"]
+__all__ = ["CupboardSearchEnv", "CupboardSearchVectorEnv", "Gpis", "__version__"]
+
+MAX_EPISODE_STEPS = 200
+
+if "tactile_search/CupboardSearch-v0" not in gymnasium.registry:
+    gymnasium.register(
+        id="tactile_search/CupboardSearch-v0",
+        entry_point="tactile_search.envs.cupboard_search:CupboardSearchEnv",
+        vector_entry_point="tactile_search.envs.vector:CupboardSearchVectorEnv",
+        max_episode_steps=MAX_EPISODE_STEPS,
+    )

@@ -89,15 +89,17 @@ impl EpisodeBatch {
         Ok(())
     }
 
-    /// Steps episode i with `actions[i]` on all worker threads and writes the new
-    /// observations. Returns one result per episode (an episode's error does not stop the
-    /// others). Cost: the slowest chunk's steps.
+    /// Steps episode i with `actions[i]` on all worker threads and writes every episode's
+    /// observation. An episode whose action is `None` is not stepped (the vector
+    /// environment's autoreset: it was just reset) and gets `None`. Returns one result per
+    /// episode (an episode's error does not stop the others). Cost: the slowest chunk.
+    #[allow(clippy::type_complexity)]
     pub fn step(
         &mut self,
-        actions: &[[f64; 3]],
+        actions: &[Option<[f64; 3]>],
         maps: &mut [u8],
         proprio: &mut [f32],
-    ) -> Result<Vec<Result<StepInfo, EpisodeError>>, EpisodeError> {
+    ) -> Result<Vec<Option<Result<StepInfo, EpisodeError>>>, EpisodeError> {
         let n = self.episodes.len();
         if actions.len() != n {
             return Err(EpisodeError::BufferLength {
@@ -116,7 +118,7 @@ impl EpisodeBatch {
         } else {
             maps.chunks_mut(chunk * map_len).collect()
         };
-        let mut results: Vec<Result<StepInfo, EpisodeError>> = Vec::with_capacity(n);
+        let mut results: Vec<Option<Result<StepInfo, EpisodeError>>> = Vec::with_capacity(n);
         thread::scope(|scope| {
             let workers: Vec<_> = self
                 .episodes
@@ -129,7 +131,7 @@ impl EpisodeBatch {
                         let mut out = Vec::with_capacity(episodes.len());
                         for (i, (episode, &action)) in episodes.iter_mut().zip(actions).enumerate()
                         {
-                            let result = episode.step(action);
+                            let result = action.map(|a| episode.step(a));
                             let map = maps.get_mut(i * map_len..(i + 1) * map_len);
                             let written =
                                 episode.write_map(map.unwrap_or(&mut [])).and_then(|()| {
@@ -137,7 +139,11 @@ impl EpisodeBatch {
                                         &mut proprio[i * PROPRIO_LEN..(i + 1) * PROPRIO_LEN],
                                     )
                                 });
-                            out.push(result.and_then(|info| written.map(|()| info)));
+                            out.push(match (result, written) {
+                                (Some(Ok(info)), Ok(())) => Some(Ok(info)),
+                                (Some(Err(error)), _) | (_, Err(error)) => Some(Err(error)),
+                                (None, Ok(())) => None,
+                            });
                         }
                         out
                     })

@@ -3,6 +3,7 @@
 use pyo3::exceptions::PyValueError;
 use pyo3::PyErr;
 
+use crate::episode::EpisodeError;
 use crate::gpis::GpisError;
 use crate::scene::SceneError;
 
@@ -20,6 +21,12 @@ impl From<SceneError> for PyErr {
         // says what was expected and what came.
         PyValueError::new_err(error.to_string())
     }
+}
+
+/// A `ValueError` naming the episode of a batch that failed: bad configuration, a
+/// non-finite action or a step after the end are all bad values.
+pub(crate) fn episode_error(index: usize, error: EpisodeError) -> PyErr {
+    PyValueError::new_err(format!("episode {index}: {error}"))
 }
 
 /// A `ValueError` for an array whose shape is not the one expected.

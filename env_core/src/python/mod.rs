@@ -1,6 +1,7 @@
 //! pyo3 bindings: the compiled module `tactile_search._core`. Thin: convert, release the
 //! GIL, call the pure-Rust core, convert back. Errors are mapped in [`errors`].
 
+mod episode;
 mod errors;
 mod gpis;
 mod scene;
@@ -13,6 +14,7 @@ use pyo3::prelude::*;
 fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<gpis::PyGpis>()?;
     m.add_class::<scene::PyScene>()?;
+    m.add_class::<episode::PyEpisodeBatch>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -74,14 +74,14 @@ const KEYS: &[&str] = &[
     "solver_iterations",
 ];
 
-fn type_name(value: &Bound<'_, PyAny>) -> String {
+pub(super) fn type_name(value: &Bound<'_, PyAny>) -> String {
     value
         .get_type()
         .name()
         .map_or_else(|_| "?".to_owned(), |n| n.to_string())
 }
 
-fn wrong_type(key: &str, expected: &str, value: &Bound<'_, PyAny>) -> PyErr {
+pub(super) fn wrong_type(key: &str, expected: &str, value: &Bound<'_, PyAny>) -> PyErr {
     PyTypeError::new_err(format!(
         "config[{key:?}] must be {expected}, got {} {}",
         type_name(value),
@@ -91,7 +91,7 @@ fn wrong_type(key: &str, expected: &str, value: &Bound<'_, PyAny>) -> PyErr {
     ))
 }
 
-fn float(key: &str, value: &Bound<'_, PyAny>) -> PyResult<f64> {
+pub(super) fn float(key: &str, value: &Bound<'_, PyAny>) -> PyResult<f64> {
     if value.is_instance_of::<pyo3::types::PyBool>() {
         return Err(wrong_type(key, "a float", value));
     }
@@ -100,7 +100,7 @@ fn float(key: &str, value: &Bound<'_, PyAny>) -> PyResult<f64> {
         .map_err(|_| wrong_type(key, "a float", value))
 }
 
-fn int(key: &str, value: &Bound<'_, PyAny>) -> PyResult<usize> {
+pub(super) fn int(key: &str, value: &Bound<'_, PyAny>) -> PyResult<usize> {
     if value.is_instance_of::<pyo3::types::PyBool>()
         || !value.is_instance_of::<pyo3::types::PyInt>()
     {
@@ -233,7 +233,7 @@ fn apply(config: &mut SceneConfig, key: &str, value: &Bound<'_, PyAny>) -> PyRes
 
 /// Builds a config from the defaults, a dict, then keyword arguments (a key given in both is
 /// an error).
-fn config_from(
+pub(super) fn config_from(
     config: Option<&Bound<'_, PyAny>>,
     kwargs: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<SceneConfig> {
@@ -315,7 +315,7 @@ fn config_from(
 }
 
 /// A seed: an int in [0, 2**64).
-fn seed_of(seed: &Bound<'_, PyAny>) -> PyResult<u64> {
+pub(super) fn seed_of(seed: &Bound<'_, PyAny>) -> PyResult<u64> {
     if seed.is_instance_of::<pyo3::types::PyBool>() || !seed.is_instance_of::<pyo3::types::PyInt>()
     {
         return Err(PyTypeError::new_err(format!(

@@ -1,0 +1,449 @@
+//! `_core.EpisodeBatch`: N mechanical-search episodes stepped in parallel without the GIL.
+//! The single environment uses a batch of one; the vector environment a batch of N.
+
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::exceptions::{PyIndexError, PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use super::errors::{episode_error, wrong_shape};
+use super::scene::{config_from, float, int, seed_of, type_name, wrong_type};
+use crate::episode::{oracle_action, EpisodeBatch, EpisodeConfig, MapMode, StepInfo, PROPRIO_LEN};
+use crate::scene::{JarShape, SceneConfig};
+
+/// Every episode key `EpisodeBatch` takes besides the scene's.
+const EPISODE_KEYS: &[&str] = &[
+    "map_mode",
+    "grid_shape",
+    "prior_mean",
+    "circle_prior_diameter",
+    "map_depth_noise_std",
+    "free_space_offset",
+    "contact_noise_std",
+    "normal_noise_std",
+    "skip_below_variance",
+    "max_rows",
+    "mean_scale",
+    "std_scale",
+    "reward_success",
+    "reward_step_cost",
+    "reward_displacement",
+    "reward_tip",
+    "max_steps",
+    "tip_angle",
+];
+
+fn optional_float(key: &str, value: &Bound<'_, PyAny>) -> PyResult<Option<f64>> {
+    if value.is_none() {
+        Ok(None)
+    } else {
+        float(key, value).map(Some)
+    }
+}
+
+fn apply(config: &mut EpisodeConfig, key: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
+    let map = &mut config.map;
+    match key {
+        "map_mode" => {
+            let text: String = value
+                .extract()
+                .map_err(|_| wrong_type(key, "a str", value))?;
+            map.mode = MapMode::parse(&text).ok_or_else(|| {
+                PyValueError::new_err(format!(
+                    "map must be \"gpis\", \"occupancy\" or \"none\", got {text:?}"
+                ))
+            })?;
+        }
+        "grid_shape" => {
+            let (h, w): (Bound<'_, PyAny>, Bound<'_, PyAny>) = value
+                .extract()
+                .map_err(|_| wrong_type(key, "a pair of ints (H, W)", value))?;
+            map.grid_shape = (int(key, &h)?, int(key, &w)?);
+        }
+        "prior_mean" => map.prior_mean = float(key, value)?,
+        "circle_prior_diameter" => map.circle_prior_diameter = optional_float(key, value)?,
+        "map_depth_noise_std" => map.depth_noise_std = float(key, value)?,
+        "free_space_offset" => map.free_space_offset = optional_float(key, value)?,
+        "contact_noise_std" => map.contact_noise_std = float(key, value)?,
+        "normal_noise_std" => map.normal_noise_std = float(key, value)?,
+        "skip_below_variance" => map.skip_below_variance = float(key, value)?,
+        "max_rows" => map.max_rows = int(key, value)?,
+        "mean_scale" => map.mean_scale = float(key, value)?,
+        "std_scale" => map.std_scale = float(key, value)?,
+        "reward_success" => config.reward.success = float(key, value)?,
+        "reward_step_cost" => config.reward.step_cost = float(key, value)?,
+        "reward_displacement" => config.reward.displacement = float(key, value)?,
+        "reward_tip" => config.reward.tip = float(key, value)?,
+        "max_steps" => config.max_steps = int(key, value)?,
+        "tip_angle" => config.tip_angle = float(key, value)?,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "unknown episode key {key:?}; expected one of {EPISODE_KEYS:?}"
+            )))
+        }
+    }
+    Ok(())
+}
+
+fn info_dict<'py>(py: Python<'py>, info: &StepInfo) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("reward_success", info.reward_success)?;
+    d.set_item("reward_step", info.reward_step)?;
+    d.set_item("reward_displacement", info.reward_displacement)?;
+    d.set_item("reward_tip", info.reward_tip)?;
+    d.set_item("success", info.success)?;
+    d.set_item("tipped", info.tipped)?;
+    d.set_item("steps", info.steps)?;
+    d.set_item("jar_displacement", info.jar_displacement)?;
+    d.set_item("max_jar_displacement", info.max_jar_displacement)?;
+    d.set_item("max_tilt", info.max_tilt)?;
+    d.set_item("tips", info.tips)?;
+    d.set_item("contacts", info.contacts)?;
+    d.set_item("rows_added", info.rows_added)?;
+    d.set_item("contacts_skipped", info.contacts_skipped)?;
+    d.set_item("contacts_dropped", info.contacts_dropped)?;
+    d.set_item("gpis_rows", info.gpis_rows)?;
+    d.set_item("iou", info.iou)?;
+    d.set_item("clipped", info.clipped)?;
+    d.set_item("blocked", info.blocked)?;
+    Ok(d)
+}
+
+/// N episodes with one configuration (see `tactile_search.CupboardSearchEnv`).
+#[pyclass(name = "EpisodeBatch", module = "tactile_search._core")]
+pub struct PyEpisodeBatch {
+    inner: EpisodeBatch,
+    config: EpisodeConfig,
+    maps: Vec<u8>,
+    proprio: Vec<f32>,
+}
+
+impl PyEpisodeBatch {
+    fn map_shape(&self) -> Option<[usize; 4]> {
+        let (h, w) = self.config.map.grid_shape;
+        (self.config.map.mode != MapMode::None).then_some([self.inner.len(), 2, h, w])
+    }
+
+    fn observation<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Option<Bound<'py, PyAny>>, Bound<'py, PyAny>)> {
+        let maps = match self.map_shape() {
+            Some(shape) => Some(
+                PyArray1::from_slice(py, &self.maps)
+                    .reshape(shape)?
+                    .into_any(),
+            ),
+            None => None,
+        };
+        let proprio = PyArray1::from_slice(py, &self.proprio)
+            .reshape([self.inner.len(), PROPRIO_LEN])?
+            .into_any();
+        Ok((maps, proprio))
+    }
+
+    fn episode_index(&self, index: usize) -> PyResult<usize> {
+        if index < self.inner.len() {
+            Ok(index)
+        } else {
+            Err(PyIndexError::new_err(format!(
+                "episode index must be in [0, {}), got {index}",
+                self.inner.len()
+            )))
+        }
+    }
+}
+
+#[pymethods]
+impl PyEpisodeBatch {
+    /// Episodes seeded `seeds[i]`; `scene_config` is a flat dict of scene keys (see
+    /// `Scene.config_keys()`), the keyword arguments are episode keys.
+    #[new]
+    #[pyo3(signature = (seeds, threads = None, scene_config = None, **episode))]
+    fn new(
+        py: Python<'_>,
+        seeds: &Bound<'_, PyAny>,
+        threads: Option<usize>,
+        scene_config: Option<&Bound<'_, PyAny>>,
+        episode: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        let seeds: Vec<u64> = seeds
+            .try_iter()
+            .map_err(|_| {
+                PyTypeError::new_err(format!(
+                    "seeds must be a list of ints, got {}",
+                    type_name(seeds)
+                ))
+            })?
+            .map(|s| seed_of(&s?))
+            .collect::<PyResult<_>>()?;
+        if seeds.is_empty() {
+            return Err(PyValueError::new_err(
+                "seeds must hold at least one seed, got none",
+            ));
+        }
+        let scene = match scene_config {
+            Some(c) if !c.is_none() => config_from(Some(c), None)?,
+            _ => SceneConfig::default(),
+        };
+        let mut config = EpisodeConfig {
+            scene,
+            ..EpisodeConfig::default()
+        };
+        if let Some(episode) = episode {
+            for (key, value) in episode.iter() {
+                let key: String = key.extract()?;
+                apply(&mut config, &key, &value)?;
+            }
+        }
+        config.validate().map_err(|e| episode_error(0, e))?;
+        let built = config.clone();
+        let inner = py
+            .detach(|| EpisodeBatch::new(built, &seeds, threads))
+            .map_err(|e| episode_error(0, e))?;
+        let n = inner.len();
+        let map_len = inner.episodes()[0].map_len();
+        let mut batch = Self {
+            inner,
+            config,
+            maps: vec![0; n * map_len],
+            proprio: vec![0.0; n * PROPRIO_LEN],
+        };
+        batch
+            .inner
+            .write_observations(&mut batch.maps, &mut batch.proprio)
+            .map_err(|e| episode_error(0, e))?;
+        Ok(batch)
+    }
+
+    /// Every episode key and its default, as a dict.
+    #[staticmethod]
+    fn episode_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+        let c = EpisodeConfig::default();
+        let m = &c.map;
+        let d = PyDict::new(py);
+        d.set_item("map_mode", m.mode.name())?;
+        d.set_item("grid_shape", m.grid_shape)?;
+        d.set_item("prior_mean", m.prior_mean)?;
+        d.set_item("circle_prior_diameter", m.circle_prior_diameter)?;
+        d.set_item("map_depth_noise_std", m.depth_noise_std)?;
+        d.set_item("free_space_offset", m.free_space_offset)?;
+        d.set_item("contact_noise_std", m.contact_noise_std)?;
+        d.set_item("normal_noise_std", m.normal_noise_std)?;
+        d.set_item("skip_below_variance", m.skip_below_variance)?;
+        d.set_item("max_rows", m.max_rows)?;
+        d.set_item("mean_scale", m.mean_scale)?;
+        d.set_item("std_scale", m.std_scale)?;
+        d.set_item("reward_success", c.reward.success)?;
+        d.set_item("reward_step_cost", c.reward.step_cost)?;
+        d.set_item("reward_displacement", c.reward.displacement)?;
+        d.set_item("reward_tip", c.reward.tip)?;
+        d.set_item("max_steps", c.max_steps)?;
+        d.set_item("tip_angle", c.tip_angle)?;
+        Ok(d)
+    }
+
+    /// Resets episode `index` to `seed`; returns its (map or None, proprio) observation.
+    fn reset<'py>(
+        &mut self,
+        py: Python<'py>,
+        index: usize,
+        seed: &Bound<'py, PyAny>,
+    ) -> PyResult<(Option<Bound<'py, PyAny>>, Bound<'py, PyAny>)> {
+        let index = self.episode_index(index)?;
+        let seed = seed_of(seed)?;
+        let inner = &mut self.inner;
+        py.detach(|| inner.reset(index, seed))
+            .map_err(|e| episode_error(index, e))?;
+        self.inner
+            .write_observations(&mut self.maps, &mut self.proprio)
+            .map_err(|e| episode_error(index, e))?;
+        self.observation(py)
+    }
+
+    /// The current observations: maps (N, 2, H, W) uint8 or None, proprio (N, 11) float32.
+    fn observe<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Option<Bound<'py, PyAny>>, Bound<'py, PyAny>)> {
+        self.observation(py)
+    }
+
+    /// Steps every episode with its row of `actions` (N, 3) in [-1, 1] (clipped); returns
+    /// (maps, proprio, rewards (N,), terminated (N,), infos). Where `active` (N,) bool is
+    /// given and False, the episode is not stepped (the vector env's autoreset): its reward
+    /// is 0, terminated False and its info that of its reset. Raises `ValueError` naming the
+    /// episode if any step failed (a non-finite action, a step after termination).
+    #[allow(clippy::type_complexity)]
+    #[pyo3(signature = (actions, active = None))]
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        actions: PyReadonlyArray2<'py, f64>,
+        active: Option<PyReadonlyArray1<'py, bool>>,
+    ) -> PyResult<(
+        Option<Bound<'py, PyAny>>,
+        Bound<'py, PyAny>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<bool>>,
+        Bound<'py, PyList>,
+    )> {
+        let n = self.inner.len();
+        let view = actions.as_array();
+        if view.shape() != [n, 3] {
+            return Err(wrong_shape("actions", &format!("({n}, 3)"), view.shape()));
+        }
+        let active: Vec<bool> = match &active {
+            Some(mask) if mask.as_array().len() != n => {
+                return Err(wrong_shape(
+                    "active",
+                    &format!("({n},)"),
+                    mask.as_array().shape(),
+                ))
+            }
+            Some(mask) => mask.as_array().to_vec(),
+            None => vec![true; n],
+        };
+        let requested: Vec<Option<[f64; 3]>> = view
+            .rows()
+            .into_iter()
+            .zip(&active)
+            .map(|(r, &on)| on.then_some([r[0], r[1], r[2]]))
+            .collect();
+        let (inner, maps, proprio) = (&mut self.inner, &mut self.maps, &mut self.proprio);
+        let results = py
+            .detach(|| inner.step(&requested, maps, proprio))
+            .map_err(|e| episode_error(0, e))?;
+        let mut rewards = Vec::with_capacity(n);
+        let mut terminated = Vec::with_capacity(n);
+        let infos = PyList::empty(py);
+        for (index, result) in results.into_iter().enumerate() {
+            let (reward, ended, info) = match result {
+                Some(outcome) => {
+                    let info = outcome.map_err(|e| episode_error(index, e))?;
+                    (info.reward, info.terminated, info)
+                }
+                None => (0.0, false, *self.inner.episodes()[index].last_info()),
+            };
+            rewards.push(reward);
+            terminated.push(ended);
+            infos.append(info_dict(py, &info)?)?;
+        }
+        let (maps, proprio) = self.observation(py)?;
+        Ok((
+            maps,
+            proprio,
+            PyArray1::from_vec(py, rewards),
+            PyArray1::from_vec(py, terminated),
+            infos,
+        ))
+    }
+
+    /// The oracle's actions (N, 3): it knows the target (the upper-bound baseline).
+    fn oracle_actions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let flat: Vec<f64> = self
+            .inner
+            .episodes()
+            .iter()
+            .flat_map(oracle_action)
+            .collect();
+        PyArray1::from_vec(py, flat).reshape([self.inner.len(), 3])
+    }
+
+    /// The metrics of episode `index`'s last reset or step, as the info dict.
+    fn info<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyDict>> {
+        let index = self.episode_index(index)?;
+        info_dict(py, self.inner.episodes()[index].last_info())
+    }
+
+    /// Ground truth and map of episode `index` for rendering: jars, hand, finger, contacts,
+    /// target, the map's bounds, and its mean/std (gpis) or occupancy probability grids.
+    fn render_state<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyDict>> {
+        let index = self.episode_index(index)?;
+        let episode = &self.inner.episodes()[index];
+        let scene = episode.scene();
+        let d = PyDict::new(py);
+        let jars = PyList::empty(py);
+        for (i, jar) in scene.jar_states().iter().enumerate() {
+            let j = PyDict::new(py);
+            j.set_item("x", jar.position[0])?;
+            j.set_item("y", jar.position[1])?;
+            j.set_item("yaw", crate::episode::metrics::yaw_of(jar.rotation))?;
+            let (shape, size) = match jar.spec.shape {
+                JarShape::Round { radius } => ("round", 2.0 * radius),
+                JarShape::Square { half_side } => ("square", 2.0 * half_side),
+            };
+            j.set_item("shape", shape)?;
+            j.set_item("size", size)?;
+            j.set_item("tilt", jar.disturbance.tilt)?;
+            j.set_item("is_target", i == scene.target())?;
+            jars.append(j)?;
+        }
+        d.set_item("jars", jars)?;
+        let hand = scene.hand_pose();
+        d.set_item("hand", (hand.x, hand.y, hand.yaw))?;
+        let finger = scene.finger_pose();
+        d.set_item("finger", (finger.x, finger.y, finger.yaw))?;
+        let hand_config = &self.config.scene.hand;
+        d.set_item("finger_length", hand_config.finger_length)?;
+        d.set_item("wrist_half_extent", hand_config.wrist_half_extent)?;
+        let contacts: Vec<[f64; 4]> = scene
+            .contacts()
+            .iter()
+            .map(|c| [c.point[0], c.point[1], c.normal[0], c.normal[1]])
+            .collect();
+        d.set_item("contacts", contacts)?;
+        d.set_item("bounds", episode.grid().bounds())?;
+        let (h, w) = episode.grid().shape();
+        if let Some(gpis) = episode.gpis() {
+            let std: Vec<f64> = gpis.variance_grid().iter().map(|v| v.sqrt()).collect();
+            d.set_item(
+                "mean",
+                PyArray1::from_slice(py, gpis.mean_grid()).reshape([h, w])?,
+            )?;
+            d.set_item("std", PyArray1::from_vec(py, std).reshape([h, w])?)?;
+        }
+        if let Some(occupancy) = episode.occupancy() {
+            let p: Vec<f32> = (0..h * w).map(|i| occupancy.probability(i)).collect();
+            d.set_item("occupancy", PyArray1::from_vec(py, p).reshape([h, w])?)?;
+        }
+        Ok(d)
+    }
+
+    /// Number of episodes.
+    #[getter]
+    fn num_envs(&self) -> usize {
+        self.inner.len()
+    }
+
+    /// (H, W) of the map grid.
+    #[getter]
+    fn grid_shape(&self) -> (usize, usize) {
+        self.config.map.grid_shape
+    }
+
+    /// `"gpis"`, `"occupancy"` or `"none"`.
+    #[getter]
+    fn map_mode(&self) -> &'static str {
+        self.config.map.mode.name()
+    }
+
+    /// Length of the proprioception vector.
+    #[getter]
+    fn proprio_len(&self) -> usize {
+        PROPRIO_LEN
+    }
+
+    /// The hand's largest translation (m) and yaw (rad) per step: the action scale.
+    #[getter]
+    fn action_scale(&self) -> (f64, f64) {
+        let hand = &self.config.scene.hand;
+        (hand.max_step_translation, hand.max_step_yaw)
+    }
+
+    /// The map's bounds ((x0, x1), (y0, y1)).
+    #[getter]
+    fn map_bounds(&self) -> [[f64; 2]; 2] {
+        self.config.map_bounds()
+    }
+}

@@ -1,0 +1,180 @@
+"""``tactile_search/CupboardSearch-v0``: find a hidden spice jar by touch, with a GPIS map."""
+
+from __future__ import annotations
+
+from typing import Any, ClassVar
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+from gymnasium.utils import EzPickle
+
+from tactile_search.envs.config import CupboardSearchConfig
+
+
+def observation_space(config: CupboardSearchConfig, proprio_len: int) -> spaces.Dict:
+    """The Dict observation space of one environment."""
+    entries: dict[str, spaces.Space] = {}
+    if config.map != "none":
+        height, width = config.grid_shape
+        entries["map"] = spaces.Box(0, 255, (2, height, width), np.uint8)
+    entries["proprio"] = spaces.Box(-1.0, 1.0, (proprio_len,), np.float32)
+    return spaces.Dict(entries)
+
+
+ACTION_SPACE = spaces.Box(-1.0, 1.0, (3,), np.float32)
+
+
+def as_observation(maps: np.ndarray | None, proprio: np.ndarray, index: int) -> dict:
+    """Episode ``index``'s observation out of the batch arrays."""
+    observation = {"proprio": proprio[index]}
+    if maps is not None:
+        observation["map"] = maps[index]
+    return observation
+
+
+def checked_actions(action: Any, rows: int | None) -> np.ndarray:
+    """Actions as a finite float64 ``(n, 3)`` array, else ``ValueError``.
+
+    ``rows=None`` takes one action of shape ``(3,)``; ``rows=N`` a batch ``(N, 3)``.
+    """
+    try:
+        array = np.asarray(action, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"action must be numeric with 3 entries per env, got {action!r}") from None
+    expected = (3,) if rows is None else (rows, 3)
+    if array.shape != expected:
+        raise ValueError(f"action must have shape {expected}, got shape {array.shape}")
+    if not np.all(np.isfinite(array)):
+        raise ValueError(f"action must be finite, got {array}")
+    return array.reshape(-1, 3)
+
+
+class CupboardSearchEnv(gym.Env, EzPickle):
+    """Mechanical search by touch: reach into a cupboard and touch a hidden spice jar.
+
+    ## Description
+    A cupboard compartment (0.60 m wide, 0.30 m deep, open at the front) holds 3 to 7 round
+    and square spice jars. One of them, the target, stands behind the others so that the
+    depth camera in front of the opening sees at most 10 % of it. The agent moves the wrist
+    of an Exploratory Hand in the horizontal slice plane; its long finger is compliant (a
+    low-stiffness joint), so touching a jar deflects the finger instead of knocking the jar
+    over. Each touch yields a contact point and the jar's outward normal. The agent's map is
+    a Gaussian Process Implicit Surface (GPIS) built from the camera's first look and
+    refined by every touch (paper: "Tactile-visuo Search in Cluttered Spaces").
+
+    ## Action Space
+    ``Box(-1, 1, (3,), float32)``: wrist motion per step, scaled by the hand's bounds.
+
+    | index | action | scale (default) |
+    |---|---|---|
+    | 0 | dx, along the opening | 0.01 m |
+    | 1 | dy, into the cupboard | 0.01 m |
+    | 2 | dyaw, about the vertical | 0.1 rad |
+
+    Components outside [-1, 1] are clipped (``info["clipped"]``); NaN or infinite actions
+    raise ``ValueError``. A motion that would drive the wrist or arm into a wall stops at
+    contact (``info["blocked"]``).
+
+    ## Observation Space
+    ``Dict``:
+
+    | key | space | content |
+    |---|---|---|
+    | ``map`` | ``Box(0, 255, (2, H, W), uint8)`` | the map image (absent for ``map="none"``) |
+    | ``proprio`` | ``Box(-1, 1, (11,), float32)`` | proprioception and touch |
+
+    ``map`` channels. ``gpis``: channel 0 = 128 + 127 clip(mean / mean_scale, -1, 1), dark
+    inside jars and 128 on surfaces; channel 1 = 255 clip(std / std_scale, 0, 1).
+    ``occupancy``: channel 0 = 255 P(occupied), 128 where unknown; channel 1 = 0.
+
+    ``proprio`` entries: wrist x and y scaled to the workspace, cos yaw, sin yaw, finger
+    deflection / joint limit, in contact (0 or 1), the first contact's offset from the
+    wrist (x, y, over the finger length), its outward normal (x, y), and the time left
+    1 - t / max_steps.
+
+    Row ``i`` of the map runs along y (into the cupboard), column ``j`` along x; the grid
+    covers the cupboard's interior with square cells.
+
+    ## Rewards
+    ``r = r_success + r_step + r_displacement + r_tip``, each term in ``info``:
+
+    - ``r_success = reward_success`` when the finger touches the target, else 0;
+    - ``r_step = -reward_step_cost``;
+    - ``r_displacement = -reward_displacement * (D_t - D_{t-1})`` with ``D_t`` the planar
+      displacement of all jars since reset (m), summed;
+    - ``r_tip = -reward_tip`` when a jar tips over (leans more than ``tip_angle``).
+
+    ## Starting State
+    A new seeded layout, the depth camera's first look (a noisy horizontal slice at mid-jar
+    height), the GPIS prior from it, and the hand just outside the opening.
+
+    ## Episode End
+    - Termination: the finger touches the target (success) or a jar tips over (failure).
+    - Truncation: the registered time limit, ``max_episode_steps = 200``.
+
+    ## Arguments
+    ``gymnasium.make("tactile_search/CupboardSearch-v0", **kwargs)`` takes the fields of
+    ``CupboardSearchConfig``; the two names users rely on are ``map`` (``"gpis"``,
+    ``"occupancy"`` or ``"none"``) and ``grid_shape`` ``(H, W)`` (square cells over the 0.6 x
+    0.3 m interior, so W = 2 H, and H >= 36). Others: ``prior_mean``,
+    ``circle_prior_diameter``, ``map_depth_noise_std``, ``free_space_offset``,
+    ``contact_noise_std``, ``normal_noise_std``, ``skip_below_variance``, ``max_rows``,
+    ``mean_scale``, ``std_scale``, reward weights ``reward_success``, ``reward_step_cost``,
+    ``reward_displacement``, ``reward_tip``, ``max_steps`` (for the time-left entry; keep it
+    equal to the time limit), ``tip_angle``, scene shortcuts ``jar_count``,
+    ``depth_noise_std`` (camera noise, m), ``finger_stiffness`` (N m/rad), and
+    ``scene_config`` for any other scene key (``tactile_search._core.Scene.config_keys()``).
+    A bad value raises ``ValueError`` naming the argument. ``render_mode="rgb_array"``.
+
+    ## Version History
+    - v0: first release.
+    """
+
+    metadata: ClassVar[dict[str, Any]] = {"render_modes": ["rgb_array"], "render_fps": 10}
+
+    def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
+        EzPickle.__init__(self, render_mode=render_mode, **kwargs)
+        if render_mode not in (None, "rgb_array"):
+            raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
+        self.render_mode = render_mode
+        self.config = CupboardSearchConfig(**kwargs)
+        self._batch = self.config.make_batch([0], threads=1)
+        self.observation_space = observation_space(self.config, self._batch.proprio_len)
+        self.action_space = ACTION_SPACE
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[dict, dict]:
+        super().reset(seed=seed)
+        # A given seed is the layout's seed (so reset(seed=s) here equals episode i of a
+        # vector env reset with seed[i] = s); otherwise draw one from the env's generator.
+        episode_seed = seed if seed is not None else int(self.np_random.integers(0, 2**63))
+        maps, proprio = self._batch.reset(0, episode_seed)
+        return as_observation(maps, proprio, 0), dict(self._batch.info(0))
+
+    def step(self, action: Any) -> tuple[dict, float, bool, bool, dict]:
+        actions = checked_actions(action, None)
+        maps, proprio, rewards, terminated, infos = self._batch.step(actions)
+        return (
+            as_observation(maps, proprio, 0),
+            float(rewards[0]),
+            bool(terminated[0]),
+            False,
+            infos[0],
+        )
+
+    def oracle_action(self) -> np.ndarray:
+        """The action of a scripted searcher that knows the target (the upper bound)."""
+        return self._batch.oracle_actions()[0].astype(np.float32)
+
+    def render_state(self) -> dict[str, Any]:
+        """Ground truth and map of the current state (jars, hand, contacts, map grids)."""
+        return self._batch.render_state(0)
+
+    def render(self) -> np.ndarray | None:
+        if self.render_mode != "rgb_array":
+            return None
+        from tactile_search.render import render_frame
+
+        return render_frame(self.render_state(), self.config.map)

@@ -1,0 +1,197 @@
+"""The gymnasium face: checkers, determinism, pickling, finiteness, solvability, bad input."""
+
+from __future__ import annotations
+
+import pickle
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import tactile_search  # noqa: F401  (registers the environment)
+from tactile_search import CupboardSearchEnv, CupboardSearchVectorEnv
+
+ENV_ID = "tactile_search/CupboardSearch-v0"
+MODES = ["gpis", "occupancy", "none"]
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_gymnasium_env_checker_passes(mode: str) -> None:
+    env = gym.make(ENV_ID, map=mode)
+    check_env(env.unwrapped, skip_render_check=True)
+    env.close()
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_stable_baselines3_env_checker_passes(mode: str) -> None:
+    sb3_checker = pytest.importorskip("stable_baselines3.common.env_checker")
+    sb3_checker.check_env(CupboardSearchEnv(map=mode), warn=True)
+
+
+def test_registered_with_a_time_limit() -> None:
+    env = gym.make(ENV_ID)
+    assert env.spec.max_episode_steps == 200
+    obs, _ = env.reset(seed=0)
+    assert obs["map"].shape == (2, 40, 80) and obs["map"].dtype == np.uint8
+    assert obs["proprio"].shape == (11,) and obs["proprio"].dtype == np.float32
+
+
+def rollout(env: gym.Env, seed: int, steps: int) -> list:
+    obs, _ = env.reset(seed=seed)
+    rng = np.random.default_rng(seed)
+    trace = [obs]
+    for _ in range(steps):
+        obs, reward, terminated, truncated, info = env.step(rng.uniform(-1, 1, 3))
+        trace.append((obs, reward, info))
+        if terminated or truncated:
+            break
+    return trace
+
+
+def assert_same(a: object, b: object) -> None:
+    if isinstance(a, dict):
+        assert a.keys() == b.keys()
+        for key in a:
+            assert_same(a[key], b[key])
+    elif isinstance(a, list | tuple):
+        assert len(a) == len(b)
+        for x, y in zip(a, b, strict=True):
+            assert_same(x, y)
+    elif isinstance(a, np.ndarray):
+        np.testing.assert_array_equal(a, b)
+    else:
+        assert a == b
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_same_seed_same_actions_give_identical_rollouts(mode: str) -> None:
+    first = rollout(gym.make(ENV_ID, map=mode), seed=3, steps=30)
+    second = rollout(gym.make(ENV_ID, map=mode), seed=3, steps=30)
+    assert_same(first, second)
+
+
+def test_vector_env_matches_single_envs() -> None:
+    vector = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point")
+    singles = [gym.make(ENV_ID) for _ in range(2)]
+    obs, _ = vector.reset(seed=[11, 12])
+    for index, env in enumerate(singles):
+        single_obs, _ = env.reset(seed=[11, 12][index])
+        np.testing.assert_array_equal(single_obs["map"], obs["map"][index])
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        actions = rng.uniform(-1, 1, (2, 3))
+        obs, rewards, terminated, _, infos = vector.step(actions)
+        for index, env in enumerate(singles):
+            single_obs, reward, done, _, info = env.step(actions[index])
+            np.testing.assert_array_equal(single_obs["map"], obs["map"][index])
+            np.testing.assert_array_equal(single_obs["proprio"], obs["proprio"][index])
+            assert reward == rewards[index] and done == terminated[index]
+            assert info["iou"] == infos["iou"][index]
+        if terminated.any():
+            break
+
+
+def test_vector_env_autoresets_on_the_next_step() -> None:
+    vector = CupboardSearchVectorEnv(num_envs=2, max_episode_steps=5)
+    vector.reset(seed=0)
+    for _ in range(5):
+        _, _, terminated, truncated, _ = vector.step(np.zeros((2, 3)))
+    assert truncated.all() and not terminated.any()
+    _, rewards, terminated, truncated, infos = vector.step(np.ones((2, 3)))
+    assert (rewards == 0).all() and not terminated.any() and not truncated.any()
+    assert (infos["steps"] == 0).all()
+    _, _, _, _, infos = vector.step(np.zeros((2, 3)))
+    assert (infos["steps"] == 1).all()
+
+
+def test_pickle_round_trip_builds_an_equal_env() -> None:
+    env = CupboardSearchEnv(map="occupancy", grid_shape=(36, 72), reward_step_cost=0.02)
+    clone = pickle.loads(pickle.dumps(env))
+    assert clone.config == env.config
+    assert_same(rollout(env, 5, 10), rollout(clone, 5, 10))
+
+
+def test_random_play_is_always_finite() -> None:
+    env = gym.make(ENV_ID)
+    rng = np.random.default_rng(1)
+    for episode in range(8):
+        env.reset(seed=episode)
+        for _ in range(60):
+            obs, reward, terminated, truncated, info = env.step(rng.uniform(-2, 2, 3))
+            assert np.isfinite(reward)
+            assert np.all(np.isfinite(obs["proprio"]))
+            assert all(np.isfinite(v) for v in info.values())
+            if terminated or truncated:
+                break
+
+
+def test_the_oracle_solves_nearly_every_episode_without_tipping() -> None:
+    env = CupboardSearchEnv()
+    successes = 0
+    episodes = 40
+    for seed in range(episodes):
+        env.reset(seed=seed)
+        for _ in range(200):
+            _, _, terminated, _, info = env.step(env.oracle_action())
+            if terminated:
+                successes += info["success"] and not info["tipped"]
+                break
+    assert successes >= 0.95 * episodes
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "message"),
+    [
+        ({"map": "voxels"}, ValueError, "map must be one of"),
+        ({"grid_shape": (40, 60)}, ValueError, "square cells"),
+        ({"grid_shape": (20, 40)}, ValueError, "H, W >= 36"),
+        ({"grid_shape": 40}, ValueError, "pair of ints"),
+        ({"reward_step_cost": -1.0}, ValueError, "reward_step_cost must be >= 0"),
+        ({"prior_mean": float("nan")}, ValueError, "prior_mean must be finite"),
+        ({"finger_stiffness": -1.0}, ValueError, "finger_stiffness must be at least 0"),
+        ({"max_steps": 0}, ValueError, "max_steps must be at least 1"),
+        ({"scene_config": {"no_such_key": 1}}, ValueError, "no_such_key"),
+        ({"scene_config": "x"}, TypeError, "scene_config must be a dict"),
+        ({"render_mode": "human"}, ValueError, "render_mode"),
+    ],
+)
+def test_bad_constructor_arguments_raise_naming_them(
+    kwargs: dict, error: type[Exception], message: str
+) -> None:
+    with pytest.raises(error, match=message):
+        CupboardSearchEnv(**kwargs)
+
+
+@pytest.mark.parametrize(
+    ("action", "message"),
+    [
+        ([np.nan, 0.0, 0.0], "finite"),
+        ([np.inf, 0.0, 0.0], "finite"),
+        ([0.0, 0.0], r"shape \(3,\)"),
+        ("left", "numeric"),
+    ],
+)
+def test_bad_actions_raise_value_error(action: object, message: str) -> None:
+    env = CupboardSearchEnv()
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match=message):
+        env.step(action)
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_render_draws_the_scene_beside_the_map_and_writes_a_gif(mode: str, tmp_path) -> None:
+    pytest.importorskip("matplotlib")
+    from tactile_search.render import save_gif
+
+    env = CupboardSearchEnv(map=mode, render_mode="rgb_array")
+    env.reset(seed=1)
+    frames = [env.render()]
+    env.step(env.oracle_action())
+    frames.append(env.render())
+    assert frames[0].dtype == np.uint8 and frames[0].ndim == 3 and frames[0].shape[2] == 3
+    panels = {"gpis": 3, "occupancy": 2, "none": 1}[mode]
+    assert frames[0].shape[1] > 250 * panels
+    path = save_gif(frames, tmp_path / "episode.gif")
+    assert path.stat().st_size > 1000
+    assert CupboardSearchEnv(map=mode).render() is None
