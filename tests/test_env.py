@@ -112,32 +112,30 @@ def test_pickle_round_trip_builds_an_equal_env() -> None:
     assert_same(rollout(env, 5, 10), rollout(clone, 5, 10))
 
 
-def test_random_play_is_always_finite() -> None:
-    env = gym.make(ENV_ID)
+def test_ten_thousand_random_steps_are_always_finite() -> None:
+    vector = CupboardSearchVectorEnv(num_envs=4, max_episode_steps=200)
+    vector.reset(seed=7)
     rng = np.random.default_rng(1)
-    for episode in range(8):
-        env.reset(seed=episode)
-        for _ in range(60):
-            obs, reward, terminated, truncated, info = env.step(rng.uniform(-2, 2, 3))
-            assert np.isfinite(reward)
-            assert np.all(np.isfinite(obs["proprio"]))
-            assert all(np.isfinite(v) for v in info.values())
-            if terminated or truncated:
-                break
+    for _ in range(2500):  # 4 envs: 10,000 steps over many autoreset episodes
+        obs, rewards, _, _, infos = vector.step(rng.uniform(-2, 2, (4, 3)))
+        assert np.all(np.isfinite(rewards))
+        assert np.all(np.isfinite(obs["proprio"])) and np.all(np.abs(obs["proprio"]) <= 1)
+        for key, values in infos.items():
+            if not key.startswith("_"):
+                assert np.all(np.isfinite(np.asarray(values, dtype=np.float64))), key
 
 
-def test_the_oracle_solves_nearly_every_episode_without_tipping() -> None:
+def test_the_oracle_solves_at_least_95_percent_of_100_seeds_without_tipping() -> None:
     env = CupboardSearchEnv()
     successes = 0
-    episodes = 40
-    for seed in range(episodes):
+    for seed in range(100):
         env.reset(seed=seed)
         for _ in range(200):
             _, _, terminated, _, info = env.step(env.oracle_action())
             if terminated:
                 successes += info["success"] and not info["tipped"]
                 break
-    assert successes >= 0.95 * episodes
+    assert successes >= 95
 
 
 @pytest.mark.parametrize(

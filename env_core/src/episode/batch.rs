@@ -119,6 +119,18 @@ impl EpisodeBatch {
             maps.chunks_mut(chunk * map_len).collect()
         };
         let mut results: Vec<Option<Result<StepInfo, EpisodeError>>> = Vec::with_capacity(n);
+        if n_chunks == 1 {
+            // One chunk: step on the calling thread (a spawn costs more than a small step).
+            let maps = map_chunks.into_iter().next().expect("one chunk");
+            results.extend(step_chunk(
+                &mut self.episodes,
+                actions,
+                maps,
+                proprio,
+                map_len,
+            ));
+            return Ok(results);
+        }
         thread::scope(|scope| {
             let workers: Vec<_> = self
                 .episodes
@@ -127,26 +139,7 @@ impl EpisodeBatch {
                 .zip(map_chunks)
                 .zip(proprio.chunks_mut(chunk * PROPRIO_LEN))
                 .map(|(((episodes, actions), maps), proprio)| {
-                    scope.spawn(move || {
-                        let mut out = Vec::with_capacity(episodes.len());
-                        for (i, (episode, &action)) in episodes.iter_mut().zip(actions).enumerate()
-                        {
-                            let result = action.map(|a| episode.step(a));
-                            let map = maps.get_mut(i * map_len..(i + 1) * map_len);
-                            let written =
-                                episode.write_map(map.unwrap_or(&mut [])).and_then(|()| {
-                                    episode.write_proprio(
-                                        &mut proprio[i * PROPRIO_LEN..(i + 1) * PROPRIO_LEN],
-                                    )
-                                });
-                            out.push(match (result, written) {
-                                (Some(Ok(info)), Ok(())) => Some(Ok(info)),
-                                (Some(Err(error)), _) | (_, Err(error)) => Some(Err(error)),
-                                (None, Ok(())) => None,
-                            });
-                        }
-                        out
-                    })
+                    scope.spawn(move || step_chunk(episodes, actions, maps, proprio, map_len))
                 })
                 .collect();
             for worker in workers {
@@ -155,4 +148,29 @@ impl EpisodeBatch {
         });
         Ok(results)
     }
+}
+
+/// Steps one chunk of episodes and writes their observations into the chunk's slices.
+fn step_chunk(
+    episodes: &mut [Episode],
+    actions: &[Option<[f64; 3]>],
+    maps: &mut [u8],
+    proprio: &mut [f32],
+    map_len: usize,
+) -> Vec<Option<Result<StepInfo, EpisodeError>>> {
+    let mut out = Vec::with_capacity(episodes.len());
+    for (i, (episode, &action)) in episodes.iter_mut().zip(actions).enumerate() {
+        let result = action.map(|a| episode.step(a));
+        let written = episode
+            .write_map(&mut maps[i * map_len..(i + 1) * map_len])
+            .and_then(|()| {
+                episode.write_proprio(&mut proprio[i * PROPRIO_LEN..(i + 1) * PROPRIO_LEN])
+            });
+        out.push(match (result, written) {
+            (Some(Ok(info)), Ok(())) => Some(Ok(info)),
+            (Some(Err(error)), _) | (_, Err(error)) => Some(Err(error)),
+            (None, Ok(())) => None,
+        });
+    }
+    out
 }

@@ -49,6 +49,9 @@ pub struct MapConfig {
     pub circle_prior_diameter: Option<f64>,
     /// GPIS noise standard deviation of a depth point, m.
     pub depth_noise_std: f64,
+    /// The depth slice is thinned (evenly) to at most this many points before it enters the
+    /// GPIS: the prior's cost grows as rows² · cells, and reset must stay fast.
+    pub max_prior_depth_points: usize,
     /// Free-space evidence: a value observation f = +offset this far in front of each depth
     /// point along its camera ray, m; `None` to use surface points only.
     pub free_space_offset: Option<f64>,
@@ -71,9 +74,10 @@ impl Default for MapConfig {
         Self {
             mode: MapMode::Gpis,
             grid_shape: (40, 80),
-            prior_mean: 0.02,
+            prior_mean: 0.01,
             circle_prior_diameter: None,
             depth_noise_std: 0.003,
+            max_prior_depth_points: 96,
             free_space_offset: Some(0.01),
             contact_noise_std: 0.001,
             normal_noise_std: 0.1,
@@ -201,6 +205,8 @@ impl EpisodeConfig {
         for (what, v) in [("mean_scale", map.mean_scale), ("std_scale", map.std_scale)] {
             in_range(what, v, v > 0.0, "> 0")?;
         }
+        let points = map.max_prior_depth_points as f64;
+        in_range("max_prior_depth_points", points, points >= 1.0, ">= 1")?;
         let rows = map.max_rows as f64;
         in_range("max_rows", rows, map.max_rows >= 1, ">= 1")?;
         let steps = self.max_steps as f64;

@@ -10,22 +10,32 @@ pub fn yaw_of(rotation: [f64; 4]) -> f64 {
     (2.0 * (w * z + x * y)).atan2(1.0 - 2.0 * (y * y + z * z))
 }
 
-/// Which cell centres lie inside a jar's footprint at its current pose. Cost O(G · jars).
+/// Which cell centres lie inside a jar's footprint at its current pose. Each jar visits
+/// only the cells of its bounding square. Cost O(G + jars · cells per jar).
 pub fn footprint_mask(grid: &GridSpec, jars: &[JarState], out: &mut Vec<bool>) {
-    out.clear();
-    let poses: Vec<(f64, f64, f64)> = jars
-        .iter()
-        .map(|j| (j.position[0], j.position[1], yaw_of(j.rotation)))
-        .collect();
     let (h, w) = grid.shape();
-    for i in 0..h {
-        for j in 0..w {
-            let p = grid.cell_centre(i, j);
-            let inside = jars
-                .iter()
-                .zip(&poses)
-                .any(|(jar, &(x, y, yaw))| jar.spec.footprint_distance(p, x, y, yaw) < 0.0);
-            out.push(inside);
+    out.clear();
+    out.resize(h * w, false);
+    let [[x0, x1], [y0, y1]] = grid.bounds();
+    let (cell_w, cell_h) = ((x1 - x0) / w as f64, (y1 - y0) / h as f64);
+    for jar in jars {
+        let (x, y, yaw) = (jar.position[0], jar.position[1], yaw_of(jar.rotation));
+        let reach = jar.spec.shape.bounding_radius();
+        let columns = |lo: f64, hi: f64, size: f64, n: usize| {
+            let first = ((lo / size).floor().max(0.0) as usize).min(n);
+            let last = ((hi / size).ceil().max(0.0) as usize).min(n);
+            first..last
+        };
+        for i in columns(y - reach - y0, y + reach - y0, cell_h, h) {
+            for j in columns(x - reach - x0, x + reach - x0, cell_w, w) {
+                if jar
+                    .spec
+                    .footprint_distance(grid.cell_centre(i, j), x, y, yaw)
+                    < 0.0
+                {
+                    out[i * w + j] = true;
+                }
+            }
         }
     }
 }

@@ -4,6 +4,7 @@
 
 use super::config::MapConfig;
 use crate::gpis::{GpisError, GridSpec, Observation};
+use crate::scene::point_cloud::thin_indices;
 
 /// Depth points closer than this belong to the same cluster (one visible jar face), m.
 const CLUSTER_GAP: f64 = 0.015;
@@ -45,7 +46,8 @@ fn clusters(points: &[[f64; 2]]) -> Vec<Vec<usize>> {
 }
 
 /// The prior's observations from the noisy depth slice seen from `camera` (x, y). Points
-/// outside the map's bounds (noise can push wall points out) are left out.
+/// outside the map's bounds (noise can push wall points out) are left out, the rest thinned
+/// evenly to `max_prior_depth_points`.
 pub fn depth_prior(
     slice: &[[f64; 2]],
     camera: [f64; 2],
@@ -53,10 +55,14 @@ pub fn depth_prior(
     config: &MapConfig,
 ) -> Result<Vec<Observation>, GpisError> {
     let depth_var = config.depth_noise_std.powi(2);
-    let inside: Vec<[f64; 2]> = slice
+    let seen: Vec<[f64; 2]> = slice
         .iter()
         .copied()
         .filter(|&p| grid.contains(p))
+        .collect();
+    let inside: Vec<[f64; 2]> = thin_indices(seen.len(), config.max_prior_depth_points)
+        .into_iter()
+        .map(|i| seen[i])
         .collect();
     let mut observations = Vec::with_capacity(2 * inside.len());
     for (i, &p) in inside.iter().enumerate() {

@@ -18,6 +18,7 @@ const EPISODE_KEYS: &[&str] = &[
     "prior_mean",
     "circle_prior_diameter",
     "map_depth_noise_std",
+    "max_prior_depth_points",
     "free_space_offset",
     "contact_noise_std",
     "normal_noise_std",
@@ -63,6 +64,7 @@ fn apply(config: &mut EpisodeConfig, key: &str, value: &Bound<'_, PyAny>) -> PyR
         "prior_mean" => map.prior_mean = float(key, value)?,
         "circle_prior_diameter" => map.circle_prior_diameter = optional_float(key, value)?,
         "map_depth_noise_std" => map.depth_noise_std = float(key, value)?,
+        "max_prior_depth_points" => map.max_prior_depth_points = int(key, value)?,
         "free_space_offset" => map.free_space_offset = optional_float(key, value)?,
         "contact_noise_std" => map.contact_noise_std = float(key, value)?,
         "normal_noise_std" => map.normal_noise_std = float(key, value)?,
@@ -227,6 +229,7 @@ impl PyEpisodeBatch {
         d.set_item("prior_mean", m.prior_mean)?;
         d.set_item("circle_prior_diameter", m.circle_prior_diameter)?;
         d.set_item("map_depth_noise_std", m.depth_noise_std)?;
+        d.set_item("max_prior_depth_points", m.max_prior_depth_points)?;
         d.set_item("free_space_offset", m.free_space_offset)?;
         d.set_item("contact_noise_std", m.contact_noise_std)?;
         d.set_item("normal_noise_std", m.normal_noise_std)?;

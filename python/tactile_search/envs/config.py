@@ -26,6 +26,7 @@ class CupboardSearchConfig:
     prior_mean: float = CORE_DEFAULTS["prior_mean"]
     circle_prior_diameter: float | None = CORE_DEFAULTS["circle_prior_diameter"]
     map_depth_noise_std: float = CORE_DEFAULTS["map_depth_noise_std"]
+    max_prior_depth_points: int = CORE_DEFAULTS["max_prior_depth_points"]
     free_space_offset: float | None = CORE_DEFAULTS["free_space_offset"]
     contact_noise_std: float = CORE_DEFAULTS["contact_noise_std"]
     normal_noise_std: float = CORE_DEFAULTS["normal_noise_std"]
@@ -58,7 +59,7 @@ class CupboardSearchConfig:
             "grid_shape",
             (as_count("grid_shape[0]", height), as_count("grid_shape[1]", width)),
         )
-        for name in ("max_rows", "max_steps"):
+        for name in ("max_rows", "max_steps", "max_prior_depth_points"):
             as_count(name, getattr(self, name))
         for name in (
             "prior_mean",

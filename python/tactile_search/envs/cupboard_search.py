@@ -118,7 +118,8 @@ class CupboardSearchEnv(gym.Env, EzPickle):
     ``CupboardSearchConfig``; the two names users rely on are ``map`` (``"gpis"``,
     ``"occupancy"`` or ``"none"``) and ``grid_shape`` ``(H, W)`` (square cells over the 0.6 x
     0.3 m interior, so W = 2 H, and H >= 36). Others: ``prior_mean``,
-    ``circle_prior_diameter``, ``map_depth_noise_std``, ``free_space_offset``,
+    ``circle_prior_diameter``, ``map_depth_noise_std``, ``max_prior_depth_points``,
+    ``free_space_offset``,
     ``contact_noise_std``, ``normal_noise_std``, ``skip_below_variance``, ``max_rows``,
     ``mean_scale``, ``std_scale``, reward weights ``reward_success``, ``reward_step_cost``,
     ``reward_displacement``, ``reward_tip``, ``max_steps`` (for the time-left entry; keep it
