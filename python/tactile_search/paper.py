@@ -5,7 +5,8 @@ depth camera, compliant finger) and the real GPIS (``tactile_search.Gpis``); not
 synthetic except the Fig. 9 timing rows, which are random points as in
 ``benchmarks/gpis_append.py``.
 
-- Depth: the first look's noisy 2D slice (value rows, f = 0, noise = the camera's sigma).
+- Depth: the first look's noisy 2D slice (value rows, f = 0, noise = the camera's sigma),
+  without the points on the cupboard's walls (within ``WALL_CLEARANCE`` of them).
 - Touch: a scripted surface-following finger (the paper's re-orienting motion, Fig. 4). For
   each jar and each side, the wrist comes in along a clear lane beside the jar, presses the
   finger's long edge against the jar's side, then turns and moves so that the finger stays
@@ -66,6 +67,9 @@ TOUCH_SPACING = 0.003  # contacts on one jar closer than this are thinned out
 POSITIVE_MEAN = 0.01
 FREE_SPACE_OFFSET = 0.01
 SHAPES = ("round", "square")
+# Depth points this close to the side and back walls are the walls (jars keep 8 mm off them);
+# the map is of the jars, so they are dropped.
+WALL_CLEARANCE = 0.005
 
 
 # --------------------------------------------------------------------------------------------
@@ -149,8 +153,8 @@ def start_map(
 ) -> Gpis:
     """The depth-only map (the prior) under ``option``."""
     gpis = Gpis(bounds, shape, prior_mean=option.prior_mean)
-    inside = in_bounds(depth, bounds)
-    gpis.add_values(depth[inside], noise_std=max(depth_noise, 1e-3))
+    depth = depth[in_bounds(depth, bounds, WALL_CLEARANCE)]
+    gpis.add_values(depth, noise_std=max(depth_noise, 1e-3))
     if option.circle_diameter is not None:
         for centre in circle_centres(depth, camera_xy, option.circle_diameter, bounds):
             gpis.add_circle_prior(centre, diameter=option.circle_diameter)
@@ -168,10 +172,20 @@ def start_map(
 
 
 def in_bounds(
-    points: NDArray[np.float64], bounds: tuple[tuple[float, float], tuple[float, float]]
+    points: NDArray[np.float64],
+    bounds: tuple[tuple[float, float], tuple[float, float]],
+    wall_clearance: float = 0.0,
 ) -> NDArray[np.bool_]:
+    """Points strictly inside ``bounds``, and at least ``wall_clearance`` from the side and
+    back walls (x0, x1, y1; the front y0 is the open side)."""
     (x0, x1), (y0, y1) = bounds
-    return (points[:, 0] > x0) & (points[:, 0] < x1) & (points[:, 1] > y0) & (points[:, 1] < y1)
+    c = wall_clearance
+    return (
+        (points[:, 0] > x0 + c)
+        & (points[:, 0] < x1 - c)
+        & (points[:, 1] > y0)
+        & (points[:, 1] < y1 - c)
+    )
 
 
 def add_touch(gpis: Gpis, touch: dict[str, NDArray]) -> int:
@@ -304,34 +318,35 @@ def support(jar: Jar, normal: NDArray[np.float64]) -> float:
     return 0.5 * jar.size * (abs(normal @ u) + abs(normal @ v))
 
 
-def bounding_radius(jar: Jar) -> float:
-    return 0.5 * jar.size * (np.sqrt(2.0) if jar.square else 1.0)
-
-
-def segment_distance(p: NDArray, a: NDArray, b: NDArray) -> float:
-    """Distance from point p to segment ab."""
-    ab = b - a
-    t = np.clip((p - a) @ ab / (ab @ ab), 0.0, 1.0)
-    return float(np.linalg.norm(p - (a + t * ab)))
-
-
 def hand_clear(
-    pose: tuple[float, float, float], jars: Sequence[Jar], skip: int, margin: float = 0.004
+    pose: tuple[float, float, float],
+    jars: Sequence[Jar],
+    skip: int,
+    margin: float = 0.003,
+    interior: tuple[float, float] | None = None,
 ) -> bool:
-    """Whether the wrist and arm (and, for jars other than ``skip``, the finger) stay clear."""
+    """Whether the wrist and arm (and, for jars other than ``skip``, the finger) at ``pose``
+    keep ``margin`` from every jar footprint (exact footprints, sampled along the links) and,
+    if ``interior = (width, depth)`` is given, the wrist and arm from the side and back walls.
+    """
     x, y, yaw = pose
     d = np.array([-np.sin(yaw), np.cos(yaw)])
     wrist = np.array([x, y])
-    arm_end = wrist - (ARM_LENGTH + WRIST_HALF) * d
-    finger_root, finger_tip = wrist + JOINT_OFFSET * d, wrist + (JOINT_OFFSET + FINGER_LENGTH) * d
-    for k, jar in enumerate(jars):
-        centre = np.asarray(jar.centre)
-        reach = bounding_radius(jar) + margin
-        if segment_distance(centre, arm_end, wrist) < reach + WRIST_HALF * np.sqrt(2.0):
-            return False
-        if k != skip and segment_distance(centre, finger_root, finger_tip) < (
-            reach + FINGER_HALF_THICKNESS
+    # Points along the arm's and the finger's centre lines, 2.5 mm apart.
+    arm = wrist - np.linspace(-WRIST_HALF, ARM_LENGTH + WRIST_HALF, 173)[:, None] * d
+    finger = wrist + np.linspace(JOINT_OFFSET, JOINT_OFFSET + FINGER_LENGTH, 41)[:, None] * d
+    if interior is not None:
+        inside = arm[arm[:, 1] > -WRIST_HALF * np.sqrt(2.0)]
+        reach = WRIST_HALF * np.sqrt(2.0) + margin
+        if len(inside) and (
+            np.max(np.abs(inside[:, 0])) > 0.5 * interior[0] - reach
+            or np.max(inside[:, 1]) > interior[1] - reach
         ):
+            return False
+    for k, jar in enumerate(jars):
+        if np.min(jar.signed_distance(arm)) < WRIST_HALF * np.sqrt(2.0) + margin:
+            return False
+        if k != skip and np.min(jar.signed_distance(finger)) < FINGER_HALF_THICKNESS + margin:
             return False
     return True
 
@@ -422,7 +437,7 @@ def follow_surfaces(
     scene: Scene,
     jar_indices: Iterable[int] | None = None,
     press: float = 0.003,
-    lever: float = 0.06,
+    levers: Sequence[float] = (0.06, 0.04, 0.08, 0.025),
     back_degrees: float = 75.0,
     front_degrees: float = 30.0,
     step_degrees: float = 5.0,
@@ -438,6 +453,7 @@ def follow_surfaces(
     jars) and the log.
     """
     jars = jars_of(scene)
+    interior = (scene.cupboard["width"], scene.cupboard["depth"])
     log = TouchLog()
     order = sorted(
         jar_indices if jar_indices is not None else range(len(jars)),
@@ -447,7 +463,7 @@ def follow_surfaces(
     for j in order:
         jar = jars[j]
         for side in (1, -1):
-            start = sweep_pose(jar, side, 0.0, press, lever)
+            start = sweep_pose(jar, side, 0.0, press, levers[0])
             lane_x = start[0] + side * (press + 0.004)
             lane = (lane_x, start[1], 0.0)
             if not hand_clear(lane, jars, skip=-1) or not hand_clear(start, jars, skip=j):
@@ -468,8 +484,12 @@ def follow_surfaces(
                 phis = np.radians(np.arange(step_degrees, abs(limit) + 1e-9, step_degrees)) * sign
                 reached = [start]
                 for phi in phis:
-                    pose = sweep_pose(jar, side, float(phi), press, lever)
-                    if not hand_clear(pose, jars, skip=j):
+                    # The contact may slide along the finger: the first clear lever wins.
+                    poses = [sweep_pose(jar, side, float(phi), press, lv) for lv in levers]
+                    pose = next(
+                        (p for p in poses if hand_clear(p, jars, skip=j, interior=interior)), None
+                    )
+                    if pose is None:
                         break
                     if not move_to(scene, pose, log, 0.003, 0.05):
                         break
@@ -787,9 +807,10 @@ def _map_panels(fig, axes, gpis: Gpis, jars, depth, touch, title: str) -> None:
     if (mean < 0).any() and (mean >= 0).any():
         ax.contour(centres[..., 0], centres[..., 1], mean, levels=[0.0], colors="k")
     _outlines(ax, jars)
+    depth = depth[in_bounds(depth, gpis.bounds, WALL_CLEARANCE)]
     ax.scatter(*depth.T, s=3, c="tab:green", label="depth")
     if touch is not None and len(touch["points"]):
-        ax.scatter(*touch["points"].T, s=5, c="orange", label="touch")
+        ax.scatter(*touch["points"].T, s=9, c="orange", edgecolors="k", lw=0.3, label="touch")
     ax.set_title(f"{title}: mean (zero level black, truth magenta)", fontsize=8)
     ax.legend(loc="upper right", fontsize=6)
     fig.colorbar(image, ax=ax, fraction=0.025)
