@@ -89,6 +89,7 @@ class PriorOption:
 PRIOR_OPTIONS = (
     PriorOption("mean 0"),
     PriorOption(f"mean +{POSITIVE_MEAN:g}", prior_mean=POSITIVE_MEAN),
+    PriorOption(f"mean +{5 * POSITIVE_MEAN:g}", prior_mean=5 * POSITIVE_MEAN),
     PriorOption("circle 0.03", circle_diameter=0.03),
     PriorOption("circle 0.2", circle_diameter=0.2),
     PriorOption(f"circle 0.03 + mean +{POSITIVE_MEAN:g}", POSITIVE_MEAN, 0.03),
