@@ -9,7 +9,7 @@ export VIRTUAL_ENV := $(abspath $(VENV))
 export PATH := $(abspath $(VENV))/bin:$(PATH)
 
 .DEFAULT_GOAL := help
-.PHONY: help demo test build build-dev bench lint format clean
+.PHONY: help demo test build build-dev bench lint format clean paper
 
 help: ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  %-10s %s\n", $$1, $$2}'
@@ -34,6 +34,9 @@ demo: build ## build, install into .venv and run the demo (writes results/demo_g
 test: build-dev lint ## cargo fmt/clippy, ruff, cargo test and pytest
 	cargo test --workspace
 	$(PY) -m pytest -q
+
+paper: build ## regenerate docs/paper/ figures and docs/PAPER.md's table
+	$(PY) -m tactile_search.paper --out docs/paper
 
 bench: build-dev ## criterion benchmarks and the Python benchmark scripts (prints figures)
 	cargo bench -p env_core --bench gpis_append
