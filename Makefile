@@ -26,7 +26,7 @@ $(VENV)/.extra-%: pyproject.toml | $(VENV)/bin/python
 build: $(VENV)/.extra-plots ## compile the Rust core (release) and install the package into .venv
 	PIP_QUIET=1 $(VENV)/bin/maturin develop --release --quiet
 
-build-dev: $(VENV)/.extra-dev build ## build, plus the test and lint tools
+build-dev: $(VENV)/.extra-dev $(VENV)/.extra-agents build ## build, plus the test, lint and agent tools (torch, SB3)
 
 demo: build ## build, install into .venv and run the demo (writes results/demo_gpis.png)
 	$(PY) -m tactile_search.demo --out results/demo_gpis.png
