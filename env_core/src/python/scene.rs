@@ -339,6 +339,14 @@ fn array2<'py>(
         .into_any())
 }
 
+/// An (N, K) float64 array from N rows of K values.
+fn rows_array<'py, const K: usize>(
+    py: Python<'py>,
+    rows: &[[f64; K]],
+) -> PyResult<Bound<'py, PyAny>> {
+    array2(py, rows.len(), K, rows.iter().flatten().copied().collect())
+}
+
 fn capture_dict<'py>(py: Python<'py>, look: &DepthCapture) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let (w, h) = (look.image.width, look.image.height);
@@ -347,13 +355,10 @@ fn capture_dict<'py>(py: Python<'py>, look: &DepthCapture) -> PyResult<Bound<'py
         "labels",
         PyArray1::from_slice(py, &look.image.labels).reshape([h, w])?,
     )?;
-    let cloud: Vec<f64> = look.cloud.iter().flatten().copied().collect();
-    d.set_item("cloud", array2(py, look.cloud.len(), 3, cloud)?)?;
+    d.set_item("cloud", rows_array(py, &look.cloud)?)?;
     d.set_item("cloud_labels", PyArray1::from_slice(py, &look.cloud_labels))?;
-    let slice: Vec<f64> = look.slice.iter().flatten().copied().collect();
-    d.set_item("slice", array2(py, look.slice.len(), 2, slice)?)?;
-    let clean: Vec<f64> = look.slice_clean.iter().flatten().copied().collect();
-    d.set_item("slice_clean", array2(py, look.slice_clean.len(), 2, clean)?)?;
+    d.set_item("slice", rows_array(py, &look.slice)?)?;
+    d.set_item("slice_clean", rows_array(py, &look.slice_clean)?)?;
     d.set_item("slice_labels", PyArray1::from_slice(py, &look.slice_labels))?;
     Ok(d)
 }
@@ -463,25 +468,13 @@ impl PyScene {
     /// Back-projected 3D cloud of the first look, (N, 3) float64.
     #[getter]
     fn cloud<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let cloud = &self.inner.first_look().cloud;
-        array2(
-            py,
-            cloud.len(),
-            3,
-            cloud.iter().flatten().copied().collect(),
-        )
+        rows_array(py, &self.inner.first_look().cloud)
     }
 
     /// The noisy, thinned 2D slice of the first look, (M, 2) float64.
     #[getter]
     fn slice_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let slice = &self.inner.first_look().slice;
-        array2(
-            py,
-            slice.len(),
-            2,
-            slice.iter().flatten().copied().collect(),
-        )
+        rows_array(py, &self.inner.first_look().slice)
     }
 
     /// Tactile readings after the last step (with noise): points (K, 2), normals (K, 2),
