@@ -5,7 +5,7 @@ Prints, per map mode (gpis, occupancy, none):
   policy and with the oracle (which touches jars, so the GPIS grows);
 - median reset time;
 - median step time by step index bucket (it must stay flat as the GPIS grows);
-- resident memory added per env (a batch of 16 built after the baseline);
+- resident memory added per env (16 envs built, reset and stepped after the baseline);
 and the speed-up of the vector env (one Rust batch on all cores) over the same batch on one
 thread. The machine is shared and noisy: compare medians and ratios from one run.
 
@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import resource
 import statistics
 import time
 
@@ -26,8 +25,12 @@ from tactile_search import CupboardSearchEnv, CupboardSearchVectorEnv
 
 
 def rss_mib() -> float:
-    """Peak resident set size of this process, MiB (Linux reports KiB)."""
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    """Current resident set size of this process, MiB (from /proc; Linux only)."""
+    with open("/proc/self/status") as status:
+        for line in status:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024
+    raise RuntimeError("VmRSS not found in /proc/self/status")
 
 
 def run_policy(mode: str, policy: str, steps: int, seed: int) -> dict[str, float]:
@@ -80,7 +83,7 @@ def vector_speedup(mode: str, num_envs: int, steps: int) -> tuple[float, float]:
 
 
 def memory_per_env(mode: str, count: int = 16) -> float:
-    """Peak RSS added by ``count`` more envs (each reset and stepped), MiB per env."""
+    """Resident memory added by ``count`` more envs (each reset and stepped), MiB per env."""
     before = rss_mib()
     envs = [CupboardSearchEnv(map=mode) for _ in range(count)]
     for seed, env in enumerate(envs):
@@ -114,7 +117,7 @@ def main(argv: list[str] | None = None) -> None:
             f"  vector env ({args.num_envs} envs): {one:.0f} steps/s on 1 thread, "
             f"{every:.0f} on all cores, speed-up {every / one:.2f}x"
         )
-        print(f"  peak RSS added per env: {memory_per_env(mode):.1f} MiB")
+        print(f"  resident memory added per env: {memory_per_env(mode):.2f} MiB")
 
 
 if __name__ == "__main__":

@@ -1,11 +1,15 @@
 //! A batch of episodes stepped in parallel: the core of the vector environment.
 //!
-//! Episodes are split into one contiguous chunk per worker thread (scoped threads, no pool
-//! to keep alive); each worker steps its episodes and writes their observations into its
-//! own slices of the caller's buffers, so results do not depend on the thread count.
+//! Episodes are split into one contiguous chunk per worker thread of the batch's own rayon
+//! pool (kept alive: spawning threads every step would cost as much as a step); each worker
+//! steps its episodes and writes their observations into its own slices of the caller's
+//! buffers, so results do not depend on the thread count.
 
 use std::num::NonZeroUsize;
 use std::thread;
+
+use rayon::prelude::*;
+use rayon::{ThreadPool, ThreadPoolBuilder};
 
 use super::config::EpisodeConfig;
 use super::episode::{Episode, StepInfo, PROPRIO_LEN};
@@ -15,6 +19,7 @@ use super::error::EpisodeError;
 pub struct EpisodeBatch {
     episodes: Vec<Episode>,
     threads: usize,
+    pool: ThreadPool,
 }
 
 impl EpisodeBatch {
@@ -30,7 +35,15 @@ impl EpisodeBatch {
             .collect::<Result<Vec<_>, _>>()?;
         let cores = thread::available_parallelism().map_or(1, NonZeroUsize::get);
         let threads = threads.unwrap_or(cores).clamp(1, episodes.len().max(1));
-        Ok(Self { episodes, threads })
+        let pool = ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("the OS can start the batch's worker threads");
+        Ok(Self {
+            episodes,
+            threads,
+            pool,
+        })
     }
 
     /// Number of episodes.
@@ -131,21 +144,19 @@ impl EpisodeBatch {
             ));
             return Ok(results);
         }
-        thread::scope(|scope| {
-            let workers: Vec<_> = self
-                .episodes
-                .chunks_mut(chunk)
-                .zip(actions.chunks(chunk))
-                .zip(map_chunks)
-                .zip(proprio.chunks_mut(chunk * PROPRIO_LEN))
+        let episodes = &mut self.episodes;
+        let chunks: Vec<_> = self.pool.install(|| {
+            episodes
+                .par_chunks_mut(chunk)
+                .zip(actions.par_chunks(chunk))
+                .zip(map_chunks.into_par_iter())
+                .zip(proprio.par_chunks_mut(chunk * PROPRIO_LEN))
                 .map(|(((episodes, actions), maps), proprio)| {
-                    scope.spawn(move || step_chunk(episodes, actions, maps, proprio, map_len))
+                    step_chunk(episodes, actions, maps, proprio, map_len)
                 })
-                .collect();
-            for worker in workers {
-                results.extend(worker.join().expect("an episode worker panicked"));
-            }
+                .collect()
         });
+        results.extend(chunks.into_iter().flatten());
         Ok(results)
     }
 }
