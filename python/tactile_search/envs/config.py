@@ -59,31 +59,15 @@ class CupboardSearchConfig:
             "grid_shape",
             (as_count("grid_shape[0]", height), as_count("grid_shape[1]", width)),
         )
-        for name in ("max_rows", "max_steps", "max_prior_depth_points"):
-            as_count(name, getattr(self, name))
-        for name in (
-            "prior_mean",
-            "map_depth_noise_std",
-            "contact_noise_std",
-            "normal_noise_std",
-            "skip_below_variance",
-            "mean_scale",
-            "std_scale",
-            "reward_success",
-            "reward_step_cost",
-            "reward_displacement",
-            "reward_tip",
-            "tip_angle",
-        ):
-            as_real(name, getattr(self, name))
-        for name in (
-            "circle_prior_diameter",
-            "free_space_offset",
-            "depth_noise_std",
-            "finger_stiffness",
-        ):
-            if getattr(self, name) is not None:
-                as_real(name, getattr(self, name), minimum=0.0)
+        # Check each scalar by its annotated type; ranges beyond these the core checks.
+        for field in dataclasses.fields(self):
+            value = getattr(self, field.name)
+            if field.type == "int":
+                as_count(field.name, value)
+            elif field.type == "float":
+                as_real(field.name, value)
+            elif field.type == "float | None" and value is not None:
+                as_real(field.name, value, minimum=0.0)
         if self.scene_config is not None and not isinstance(self.scene_config, dict):
             raise TypeError(
                 f"scene_config must be a dict or None, got {type(self.scene_config).__name__}"
