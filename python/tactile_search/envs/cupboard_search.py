@@ -25,11 +25,13 @@ def observation_space(config: CupboardSearchConfig, proprio_len: int) -> spaces.
 ACTION_SPACE = spaces.Box(-1.0, 1.0, (3,), np.float32)
 
 
-def as_observation(maps: np.ndarray | None, proprio: np.ndarray, index: int) -> dict:
-    """Episode ``index``'s observation out of the batch arrays."""
-    observation = {"proprio": proprio[index]}
+def as_observation(maps: np.ndarray | None, proprio: np.ndarray, index: int | None = None) -> dict:
+    """The observation dict out of the batch arrays: episode ``index``'s, or (``None``) the
+    whole batch's. ``maps`` is ``None`` in the ``none`` map mode."""
+    rows = slice(None) if index is None else index
+    observation = {"proprio": proprio[rows]}
     if maps is not None:
-        observation["map"] = maps[index]
+        observation["map"] = maps[rows]
     return observation
 
 

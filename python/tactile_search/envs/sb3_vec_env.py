@@ -17,7 +17,12 @@ import numpy as np
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
 from tactile_search.envs.config import CupboardSearchConfig
-from tactile_search.envs.cupboard_search import ACTION_SPACE, checked_actions, observation_space
+from tactile_search.envs.cupboard_search import (
+    ACTION_SPACE,
+    as_observation,
+    checked_actions,
+    observation_space,
+)
 
 
 class CupboardSearchSb3VecEnv(VecEnv):
@@ -55,12 +60,6 @@ class CupboardSearchSb3VecEnv(VecEnv):
     def _new_seeds(self, count: int) -> list[int]:
         return [int(s) for s in self._rng.integers(0, 2**63, size=count)]
 
-    def _stack(self, maps: np.ndarray | None, proprio: np.ndarray) -> dict[str, np.ndarray]:
-        observation = {"proprio": proprio}
-        if maps is not None:
-            observation["map"] = maps
-        return observation
-
     def seed(self, seed: int | None = None) -> Sequence[int | None]:
         self._rng = np.random.default_rng(seed)
         return [seed] * self.num_envs
@@ -69,7 +68,7 @@ class CupboardSearchSb3VecEnv(VecEnv):
         for index, episode_seed in enumerate(self._new_seeds(self.num_envs)):
             self._batch.reset(index, episode_seed)
         self._elapsed[:] = 0
-        return self._stack(*self._batch.observe())
+        return as_observation(*self._batch.observe())
 
     def step_async(self, actions: np.ndarray) -> None:
         self._actions = checked_actions(actions, self.num_envs)
@@ -79,17 +78,16 @@ class CupboardSearchSb3VecEnv(VecEnv):
         self._elapsed += 1
         truncated = (self._elapsed >= self.max_episode_steps) & ~terminated
         dones = terminated | truncated
-        observation = self._stack(maps, proprio)
+        observation = as_observation(maps, proprio)
         infos = [dict(info) for info in step_infos]
         for index in np.flatnonzero(dones):
             infos[index]["terminal_observation"] = {
                 k: v[index].copy() for k, v in observation.items()
             }
             infos[index]["TimeLimit.truncated"] = bool(truncated[index])
-            first_maps, first_proprio = self._batch.reset(int(index), self._new_seeds(1)[0])
-            observation["proprio"][index] = first_proprio[index]
-            if first_maps is not None:
-                observation["map"][index] = first_maps[index]
+            first = as_observation(*self._batch.reset(int(index), self._new_seeds(1)[0]), index)
+            for key, value in first.items():
+                observation[key][index] = value
             self._elapsed[index] = 0
         return observation, rewards.astype(np.float32), dones, infos
 

@@ -17,7 +17,12 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from tactile_search.envs.config import CupboardSearchConfig
-from tactile_search.envs.cupboard_search import ACTION_SPACE, checked_actions, observation_space
+from tactile_search.envs.cupboard_search import (
+    ACTION_SPACE,
+    as_observation,
+    checked_actions,
+    observation_space,
+)
 
 
 class CupboardSearchVectorEnv(VectorEnv):
@@ -58,12 +63,6 @@ class CupboardSearchVectorEnv(VectorEnv):
     def _seeds(self, count: int) -> list[int]:
         return [int(s) for s in self.np_random.integers(0, 2**63, size=count)]
 
-    def _observations(self, maps: np.ndarray | None, proprio: np.ndarray) -> dict:
-        observation = {"proprio": proprio}
-        if maps is not None:
-            observation["map"] = maps
-        return observation
-
     def reset(
         self, *, seed: int | list[int] | None = None, options: dict[str, Any] | None = None
     ) -> tuple[dict, dict]:
@@ -80,7 +79,7 @@ class CupboardSearchVectorEnv(VectorEnv):
         self._elapsed[:] = 0
         self._needs_reset[:] = False
         maps, proprio = self._batch.observe()
-        return self._observations(maps, proprio), self._infos()
+        return as_observation(maps, proprio), self._infos()
 
     def _infos(self) -> dict:
         infos: dict = {}
@@ -105,7 +104,7 @@ class CupboardSearchVectorEnv(VectorEnv):
         for index in range(self.num_envs):
             infos = self._add_info(infos, dict(step_infos[index]), index)
         self._needs_reset = stepping & (terminated | truncated)
-        return self._observations(maps, proprio), rewards, terminated, truncated, infos
+        return as_observation(maps, proprio), rewards, terminated, truncated, infos
 
     def oracle_actions(self) -> np.ndarray:
         """Actions ``(num_envs, 3)`` of a scripted searcher that knows each target."""
