@@ -3,17 +3,12 @@
 //! jump, twice as much) and it settles back to zero, while a finger held pressed on a jar stays
 //! deflected, with its reading, at rest.
 
-use env_core::scene::{HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig};
+mod common;
+
+use env_core::scene::{HandCommand, JarShape, Layout, Scene, SceneConfig};
 
 fn one_jar(config: SceneConfig) -> Scene {
-    let jar = JarSpec {
-        shape: JarShape::Round { radius: 0.025 },
-        height: 0.11,
-        mass: 0.15,
-        x: 0.0,
-        y: 0.15,
-        yaw: 0.0,
-    };
+    let jar = common::test_jar(JarShape::Round { radius: 0.025 }, 0.0, 0.15, 0.0);
     let layout = Layout::lone_jar(jar);
     Scene::from_layout(config, layout, 0).expect("scene builds")
 }

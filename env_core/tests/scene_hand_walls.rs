@@ -2,20 +2,15 @@
 //! (or the wrist out of its workspace) stop at the last clear pose, are reported, and do not
 //! leave the hand stuck; oversize commands are clipped; non-finite ones are refused.
 
+mod common;
+
 use env_core::scene::{
-    Blocker, HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig, SceneError, Wall,
+    Blocker, HandCommand, JarShape, Layout, Scene, SceneConfig, SceneError, Wall,
 };
 
 /// One jar tucked in the back-left corner, out of the way.
 fn open_scene() -> Scene {
-    let jar = JarSpec {
-        shape: JarShape::Round { radius: 0.025 },
-        height: 0.11,
-        mass: 0.15,
-        x: -0.26,
-        y: 0.26,
-        yaw: 0.0,
-    };
+    let jar = common::test_jar(JarShape::Round { radius: 0.025 }, -0.26, 0.26, 0.0);
     let layout = Layout::lone_jar(jar);
     Scene::from_layout(SceneConfig::default(), layout, 0).expect("scene builds")
 }

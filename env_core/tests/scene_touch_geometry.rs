@@ -6,28 +6,17 @@
 mod common;
 
 use common::{angle_deg, JarGeom};
-use env_core::scene::{Contact, HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig};
+use env_core::scene::{Contact, HandCommand, JarShape, Layout, Scene, SceneConfig};
 
 /// Presses the finger's +x side onto a jar centred at (0, 0.15) from a gap of 6 mm, then
 /// slides along it and back; returns the readings of every step with the jar's pose at that
 /// step, and the scene.
 fn press_and_slide(shape: JarShape, yaw: f64) -> (Vec<(Vec<Contact>, JarGeom)>, Scene) {
-    let jar = JarSpec {
-        shape,
-        height: 0.11,
-        mass: 0.15,
-        x: 0.0,
-        y: 0.15,
-        yaw,
-    };
+    let jar = common::test_jar(shape, 0.0, 0.15, yaw);
     let mut config = SceneConfig::default();
     config.touch.point_noise_std = 0.0;
     config.touch.normal_noise_std = 0.0;
-    let gap = 0.006;
-    let x0 = -(jar.half_extent_x() + config.hand.finger_half_thickness + gap);
-    // The jar's centre faces the finger 70 % along its length.
-    let joint_offset = config.hand.wrist_half_extent + 0.002;
-    config.hand.start = [x0, 0.15 - 0.07 - joint_offset, 0.0];
+    common::start_beside(&mut config, &jar, 0.006);
     let layout = Layout::lone_jar(jar);
     let mut scene = Scene::from_layout(config, layout, 0).expect("scene builds");
     let mut readings = Vec::new();

@@ -2,23 +2,17 @@
 //! 2 cm each way along a jar at the default stiffness moves the jar less than 2 mm (the finger deflects and
 //! the deflection is sensed), while the same sweep with a rigid finger moves it more than 1 cm.
 
-use env_core::scene::{HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig};
+mod common;
+
+use env_core::scene::{HandCommand, JarShape, Layout, Scene, SceneConfig};
 
 /// Runs the sweep; returns the jar's largest displacement, its largest tilt and the finger's
 /// largest deflection, and the number of steps with a reading.
 fn sweep(shape: JarShape, rigid: bool) -> (f64, f64, f64, usize) {
-    let jar = JarSpec {
-        shape,
-        height: 0.11,
-        mass: 0.15,
-        x: 0.0,
-        y: 0.15,
-        yaw: 0.0,
-    };
+    let jar = common::test_jar(shape, 0.0, 0.15, 0.0);
     let mut config = SceneConfig::default();
     config.hand.rigid_finger = rigid;
-    let x0 = -(jar.half_extent_x() + config.hand.finger_half_thickness + 0.006);
-    config.hand.start = [x0, 0.15 - 0.07 - config.hand.wrist_half_extent - 0.002, 0.0];
+    common::start_beside(&mut config, &jar, 0.006);
     let layout = Layout::lone_jar(jar);
     let mut scene = Scene::from_layout(config, layout, 0).expect("scene builds");
     let script = (0..9)

@@ -3,7 +3,7 @@
 
 #![allow(dead_code)]
 
-use env_core::scene::{JarShape, JarState, WallBox};
+use env_core::scene::{JarShape, JarSpec, JarState, SceneConfig, WallBox};
 
 /// A jar's centre (x, y), yaw, height and shape from its current state (upright jars only).
 pub struct JarGeom {
@@ -121,4 +121,25 @@ pub fn angle_deg(a: [f64; 2], b: [f64; 2]) -> f64 {
     let dot = a[0] * b[0] + a[1] * b[1];
     let cross = a[0] * b[1] - a[1] * b[0];
     cross.atan2(dot).abs().to_degrees()
+}
+
+/// A 0.11 m, 0.15 kg jar standing at `(x, y)` turned by `yaw`: the lone jar of the touch,
+/// deflection and wall experiments.
+pub fn test_jar(shape: JarShape, x: f64, y: f64, yaw: f64) -> JarSpec {
+    JarSpec {
+        shape,
+        height: 0.11,
+        mass: 0.15,
+        x,
+        y,
+        yaw,
+    }
+}
+
+/// Starts the wrist so the finger's edge is `gap` from the jar's −x side and the jar's centre
+/// faces the finger 70 % along its length.
+pub fn start_beside(config: &mut SceneConfig, jar: &JarSpec, gap: f64) {
+    let x0 = jar.x - (jar.half_extent_x() + config.hand.finger_half_thickness + gap);
+    let joint_offset = config.hand.wrist_half_extent + 0.002;
+    config.hand.start = [x0, jar.y - 0.07 - joint_offset, 0.0];
 }
