@@ -9,7 +9,7 @@ export VIRTUAL_ENV := $(abspath $(VENV))
 export PATH := $(abspath $(VENV))/bin:$(PATH)
 
 .DEFAULT_GOAL := help
-.PHONY: help demo test build build-dev bench lint format clean paper
+.PHONY: help demo results test build build-dev bench lint format clean paper
 
 help: ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  %-10s %s\n", $$1, $$2}'
@@ -28,8 +28,12 @@ build: $(VENV)/.extra-plots ## compile the Rust core (release) and install the p
 
 build-dev: $(VENV)/.extra-dev $(VENV)/.extra-agents build ## build, plus the test, lint and agent tools (torch, SB3)
 
-demo: build ## build, install into .venv and run the demo (writes results/demo_gpis.png)
+demo: $(VENV)/.extra-agents build ## build, install, train two agents briefly, evaluate with the baselines (results/)
 	$(PY) -m tactile_search.demo --out results/demo_gpis.png
+	$(PY) -m agents.pipeline --budget demo
+
+results: $(VENV)/.extra-agents build ## the documented budget: train every agent, evaluate, write docs/RESULTS.md
+	$(PY) -m agents.pipeline --budget full
 
 test: build-dev lint ## cargo fmt/clippy, ruff, cargo test and pytest
 	cargo test --workspace

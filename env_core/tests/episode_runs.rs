@@ -35,13 +35,19 @@ fn assert_finite(info: &StepInfo) {
         info.reward_step,
         info.reward_displacement,
         info.reward_tip,
+        info.reward_approach,
+        info.target_distance,
         info.jar_displacement,
         info.max_jar_displacement,
         info.max_tilt,
         info.iou,
     ];
     assert!(values.iter().all(|v| v.is_finite()), "{info:?}");
-    let sum = info.reward_success + info.reward_step + info.reward_displacement + info.reward_tip;
+    let sum = info.reward_success
+        + info.reward_step
+        + info.reward_displacement
+        + info.reward_tip
+        + info.reward_approach;
     assert!((info.reward - sum).abs() < 1e-12);
 }
 

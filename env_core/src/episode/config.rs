@@ -98,8 +98,13 @@ pub struct RewardConfig {
     pub step_cost: f64,
     /// Per metre of added jar displacement (summed over jars), negated.
     pub displacement: f64,
-    /// Paid (negated) when a jar tips over.
+    /// Paid (negated) when a jar tips over. A tip ends the episode, so it must cost more
+    /// than the step costs it saves (`max_steps · step_cost` = 2 at the defaults), or
+    /// knocking a jar over early is the cheapest way out of a hard layout.
     pub tip: f64,
+    /// Potential-based shaping, per metre the fingertip's path distance to the target
+    /// shrinks (see [`super::approach`]); 0 (the default) leaves the task's reward alone.
+    pub approach: f64,
 }
 
 impl Default for RewardConfig {
@@ -108,7 +113,8 @@ impl Default for RewardConfig {
             success: 1.0,
             step_cost: 0.01,
             displacement: 10.0,
-            tip: 1.0,
+            tip: 3.0,
+            approach: 0.0,
         }
     }
 }
@@ -199,6 +205,7 @@ impl EpisodeConfig {
             ("reward_step_cost", self.reward.step_cost),
             ("reward_displacement", self.reward.displacement),
             ("reward_tip", self.reward.tip),
+            ("reward_approach", self.reward.approach),
         ] {
             in_range(what, v, v >= 0.0, ">= 0")?;
         }

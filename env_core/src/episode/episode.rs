@@ -6,6 +6,7 @@
 //! substeps), add the new contacts to the map (skipping uninformative ones), then reward,
 //! termination and metrics.
 
+use super::approach::{fingertip, ApproachField};
 use super::config::{EpisodeConfig, MapMode};
 use super::error::EpisodeError;
 use super::map_image::{encode_gpis, encode_occupancy};
@@ -15,13 +16,16 @@ use super::prior::depth_prior;
 use crate::gpis::{Gpis, GpisConfig, GridSpec};
 use crate::scene::{Contact, HandCommand, Scene};
 
+/// The target's footprint widened by this much counts as reached by the approach field, m.
+const APPROACH_CLEARANCE: f64 = 0.01;
+
 /// Length of the proprioception vector; see [`Episode::write_proprio`].
 pub const PROPRIO_LEN: usize = 11;
 
 /// What one step did: the reward term by term, the episode end, and the metrics.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct StepInfo {
-    /// Total reward: the sum of the four terms below.
+    /// Total reward: the sum of the five terms below.
     pub reward: f64,
     /// `reward.success` when the finger touched the target this step, else 0.
     pub reward_success: f64,
@@ -31,6 +35,9 @@ pub struct StepInfo {
     pub reward_displacement: f64,
     /// `−reward.tip` when a jar tipped over this step, else 0.
     pub reward_tip: f64,
+    /// `reward.approach ·` how much the fingertip's path distance to the target shrank
+    /// this step (potential-based shaping; 0 at the default weight).
+    pub reward_approach: f64,
     /// The episode ended (success or a tipped jar).
     pub terminated: bool,
     /// The finger touched the target.
@@ -43,6 +50,8 @@ pub struct StepInfo {
     pub jar_displacement: f64,
     /// Largest jar displacement since reset, m.
     pub max_jar_displacement: f64,
+    /// The fingertip's path distance to the target now, m (see [`super::approach`]).
+    pub target_distance: f64,
     /// Largest jar tilt now, rad.
     pub max_tilt: f64,
     /// Jars tipped over now.
@@ -76,6 +85,7 @@ pub struct Episode {
     displacement_sum: f64,
     ended: bool,
     truth: Vec<bool>,
+    approach: ApproachField,
     last_info: StepInfo,
 }
 
@@ -107,6 +117,7 @@ impl Episode {
             displacement_sum: 0.0,
             ended: false,
             truth: Vec::new(),
+            approach: ApproachField::default(),
             last_info: StepInfo::default(),
         };
         episode.start()?;
@@ -128,6 +139,12 @@ impl Episode {
         self.steps = 0;
         self.displacement_sum = 0.0;
         self.ended = false;
+        self.approach = ApproachField::new(
+            &self.grid,
+            &self.scene.jar_states(),
+            self.scene.target(),
+            APPROACH_CLEARANCE,
+        );
         let camera = self.camera_xy();
         let slice = &self.scene.first_look().slice;
         if let Some(gpis) = &mut self.gpis {
@@ -205,6 +222,11 @@ impl Episode {
         info.tipped = info.tips > 0;
         let target = self.scene.target();
         info.success = self.scene.true_contacts().iter().any(|c| c.jar == target);
+        let finger = self.scene.finger_pose();
+        let length = self.config.scene.hand.finger_length;
+        info.target_distance = self
+            .approach
+            .distance(fingertip(finger.x, finger.y, finger.yaw, length));
         footprint_mask(&self.grid, &jars, &mut self.truth);
         if let Some(gpis) = &self.gpis {
             info.gpis_rows = gpis.n_rows();
@@ -238,12 +260,17 @@ impl Episode {
         let (contacts, rows_added, contacts_skipped, contacts_dropped) = self.add_touch();
         let (mut info, added_displacement) = self.measure();
         let weights = &self.config.reward;
+        info.reward_approach =
+            weights.approach * (self.last_info.target_distance - info.target_distance);
         info.reward_success = if info.success { weights.success } else { 0.0 };
         info.reward_step = -weights.step_cost;
         info.reward_displacement = -weights.displacement * added_displacement;
         info.reward_tip = if info.tipped { -weights.tip } else { 0.0 };
-        info.reward =
-            info.reward_success + info.reward_step + info.reward_displacement + info.reward_tip;
+        info.reward = info.reward_success
+            + info.reward_step
+            + info.reward_displacement
+            + info.reward_tip
+            + info.reward_approach;
         info.terminated = info.success || info.tipped;
         info.contacts = contacts;
         info.rows_added = rows_added;

@@ -1,6 +1,7 @@
 //! Mechanical-search episodes (design notes §4): the scene plus the agent's map, reward and
 //! episode end, and a batch of episodes stepped in parallel.
 //!
+//! - [`approach`]: the fingertip's path distance to the target (reward shaping).
 //! - [`config`]: the map mode, grid, prior, noise and reward weights.
 //! - [`prior`]: the GPIS prior from the depth camera's first look.
 //! - [`occupancy`]: the plain evidence grid of the `occupancy` mode.
@@ -10,6 +11,7 @@
 //! - [`Episode`]: reset, step, observations.
 //! - [`EpisodeBatch`]: many episodes stepped on all cores.
 
+pub mod approach;
 pub mod batch;
 pub mod config;
 #[allow(clippy::module_inception)]

@@ -30,6 +30,7 @@ const EPISODE_KEYS: &[&str] = &[
     "reward_step_cost",
     "reward_displacement",
     "reward_tip",
+    "reward_approach",
     "max_steps",
     "tip_angle",
 ];
@@ -76,6 +77,7 @@ fn apply(config: &mut EpisodeConfig, key: &str, value: &Bound<'_, PyAny>) -> PyR
         "reward_step_cost" => config.reward.step_cost = float(key, value)?,
         "reward_displacement" => config.reward.displacement = float(key, value)?,
         "reward_tip" => config.reward.tip = float(key, value)?,
+        "reward_approach" => config.reward.approach = float(key, value)?,
         "max_steps" => config.max_steps = int(key, value)?,
         "tip_angle" => config.tip_angle = float(key, value)?,
         _ => {
@@ -93,6 +95,8 @@ fn info_dict<'py>(py: Python<'py>, info: &StepInfo) -> PyResult<Bound<'py, PyDic
     d.set_item("reward_step", info.reward_step)?;
     d.set_item("reward_displacement", info.reward_displacement)?;
     d.set_item("reward_tip", info.reward_tip)?;
+    d.set_item("reward_approach", info.reward_approach)?;
+    d.set_item("target_distance", info.target_distance)?;
     d.set_item("success", info.success)?;
     d.set_item("tipped", info.tipped)?;
     d.set_item("steps", info.steps)?;
@@ -241,6 +245,7 @@ impl PyEpisodeBatch {
         d.set_item("reward_step_cost", c.reward.step_cost)?;
         d.set_item("reward_displacement", c.reward.displacement)?;
         d.set_item("reward_tip", c.reward.tip)?;
+        d.set_item("reward_approach", c.reward.approach)?;
         d.set_item("max_steps", c.max_steps)?;
         d.set_item("tip_angle", c.tip_angle)?;
         Ok(d)

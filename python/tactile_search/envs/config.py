@@ -38,6 +38,7 @@ class CupboardSearchConfig:
     reward_step_cost: float = CORE_DEFAULTS["reward_step_cost"]
     reward_displacement: float = CORE_DEFAULTS["reward_displacement"]
     reward_tip: float = CORE_DEFAULTS["reward_tip"]
+    reward_approach: float = CORE_DEFAULTS["reward_approach"]
     max_steps: int = CORE_DEFAULTS["max_steps"]
     tip_angle: float = CORE_DEFAULTS["tip_angle"]
     jar_count: int | tuple[int, int] | None = None

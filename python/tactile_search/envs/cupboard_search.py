@@ -99,13 +99,17 @@ class CupboardSearchEnv(gym.Env, EzPickle):
     covers the cupboard's interior with square cells.
 
     ## Rewards
-    ``r = r_success + r_step + r_displacement + r_tip``, each term in ``info``:
+    ``r = r_success + r_step + r_displacement + r_tip + r_approach``, each term in ``info``:
 
     - ``r_success = reward_success`` when the finger touches the target, else 0;
     - ``r_step = -reward_step_cost``;
     - ``r_displacement = -reward_displacement * (D_t - D_{t-1})`` with ``D_t`` the planar
       displacement of all jars since reset (m), summed;
-    - ``r_tip = -reward_tip`` when a jar tips over (leans more than ``tip_angle``).
+    - ``r_tip = -reward_tip`` when a jar tips over (leans more than ``tip_angle``);
+    - ``r_approach = reward_approach * (d_{t-1} - d_t)``, potential-based shaping with
+      ``d_t = info["target_distance"]``, the fingertip's path distance to the target around
+      the other jars (m). Off by default (``reward_approach = 0``); the training recipes in
+      ``agents/hyperparams`` turn it on. It does not change which policies are optimal.
 
     ## Starting State
     A new seeded layout, the depth camera's first look (a noisy horizontal slice at mid-jar
@@ -124,8 +128,8 @@ class CupboardSearchEnv(gym.Env, EzPickle):
     ``free_space_offset``,
     ``contact_noise_std``, ``normal_noise_std``, ``skip_below_variance``, ``max_rows``,
     ``mean_scale``, ``std_scale``, reward weights ``reward_success``, ``reward_step_cost``,
-    ``reward_displacement``, ``reward_tip``, ``max_steps`` (for the time-left entry; keep it
-    equal to the time limit), ``tip_angle``, scene shortcuts ``jar_count``,
+    ``reward_displacement``, ``reward_tip``, ``reward_approach``, ``max_steps`` (for the
+    time-left entry; keep it equal to the time limit), ``tip_angle``, scene shortcuts ``jar_count``,
     ``depth_noise_std`` (camera noise, m), ``finger_stiffness`` (N m/rad), and
     ``scene_config`` for any other scene key (``tactile_search._core.Scene.config_keys()``).
     A bad value raises ``ValueError`` naming the argument. ``render_mode="rgb_array"``.

@@ -3,8 +3,9 @@
 stable-baselines3 does not take a gymnasium ``VectorEnv``; its ``VecEnv`` resets an episode
 in the same step that ends it, returns the new episode's first observation, and keeps the
 last one in ``infos[i]["terminal_observation"]`` (with ``"TimeLimit.truncated"`` set when
-the time limit ended it). This adapter gives the batch exactly those semantics, so SB3
-trains on all cores: ``PPO("MultiInputPolicy", CupboardSearchSb3VecEnv(num_envs=8))``.
+the time limit ended it, and ``"is_success"``, which SB3 logs as ``rollout/success_rate``).
+This adapter gives the batch exactly those semantics, so SB3 trains on all cores:
+``PPO("MultiInputPolicy", CupboardSearchSb3VecEnv(num_envs=8))``.
 Needs the ``agents`` extra (stable-baselines3).
 """
 
@@ -32,6 +33,8 @@ class CupboardSearchSb3VecEnv(VecEnv):
         num_envs: number of episodes.
         max_episode_steps: the time limit per episode (truncation).
         seed: seed of the generator that draws each new episode's layout seed.
+        layout_seeds: ``[low, high)``, the range layout seeds are drawn from (keep training
+            out of the range evaluation holds out; ``agents/train.py`` uses ``[2**32, 2**63)``).
         threads: worker threads (default: every core).
         **kwargs: the fields of ``CupboardSearchConfig``.
     """
@@ -41,11 +44,18 @@ class CupboardSearchSb3VecEnv(VecEnv):
         num_envs: int = 2,
         max_episode_steps: int = 200,
         seed: int | None = None,
+        layout_seeds: tuple[int, int] = (0, 2**63),
         threads: int | None = None,
         **kwargs: Any,
     ) -> None:
         if not isinstance(num_envs, int) or num_envs < 1:
             raise ValueError(f"num_envs must be a positive int, got {num_envs!r}")
+        low, high = layout_seeds
+        if not 0 <= low < high <= 2**64:
+            raise ValueError(
+                f"layout_seeds must be [low, high) within [0, 2**64), got {layout_seeds}"
+            )
+        self.layout_seeds = (int(low), int(high))
         self.config = CupboardSearchConfig(**kwargs)
         self._rng = np.random.default_rng(seed)
         self._batch = self.config.make_batch(self._new_seeds(num_envs), threads=threads)
@@ -58,7 +68,8 @@ class CupboardSearchSb3VecEnv(VecEnv):
         self._actions = np.zeros((num_envs, 3))
 
     def _new_seeds(self, count: int) -> list[int]:
-        return [int(s) for s in self._rng.integers(0, 2**63, size=count)]
+        low, high = self.layout_seeds
+        return [int(s) for s in self._rng.integers(low, high, size=count, dtype=np.uint64)]
 
     def seed(self, seed: int | None = None) -> Sequence[int | None]:
         self._rng = np.random.default_rng(seed)
@@ -85,6 +96,7 @@ class CupboardSearchSb3VecEnv(VecEnv):
                 k: v[index].copy() for k, v in observation.items()
             }
             infos[index]["TimeLimit.truncated"] = bool(truncated[index])
+            infos[index]["is_success"] = bool(infos[index]["success"])
             first = as_observation(*self._batch.reset(int(index), self._new_seeds(1)[0]), index)
             for key, value in first.items():
                 observation[key][index] = value

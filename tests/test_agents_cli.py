@@ -1,0 +1,146 @@
+"""The training and evaluation CLIs run end to end in a subprocess (a few hundred steps, two
+episodes), and their building blocks check their input."""
+
+from __future__ import annotations
+
+import csv
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import yaml
+
+pytest.importorskip("stable_baselines3")
+pytest.importorskip("sb3_contrib")
+
+from agents.evaluate import held_out_seeds, summarize, wilson_interval
+from agents.train import TRAIN_LAYOUT_SEEDS, load_hyperparams, train
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def run_module(*args: str) -> subprocess.CompletedProcess:
+    result = subprocess.run(
+        [sys.executable, "-m", *args], cwd=REPO, capture_output=True, text=True, timeout=600
+    )
+    assert result.returncode == 0, result.stderr[-3000:]
+    return result
+
+
+@pytest.fixture(scope="module")
+def trained_runs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    out = tmp_path_factory.mktemp("runs")
+    runs = {}
+    for algo, map_mode in (("ppo", "gpis"), ("recurrent_ppo", "none")):
+        run_module(
+            "agents.train",
+            "--algo",
+            algo,
+            "--map",
+            map_mode,
+            "--timesteps",
+            "256",
+            "--n-envs",
+            "2",
+            "--seed",
+            "3",
+            "--out",
+            str(out),
+            "--no-progress",
+        )
+        runs[algo] = out / f"{algo}_{map_mode}_seed3"
+    return runs
+
+
+def test_the_training_cli_writes_the_model_its_config_and_logs(trained_runs: dict[str, Path]):
+    for algo, run_dir in trained_runs.items():
+        assert (run_dir / "model.zip").is_file()
+        assert list(run_dir.glob("events.out.tfevents.*")), "TensorBoard events"
+        with (run_dir / "progress.csv").open() as f:
+            rows = list(csv.DictReader(f))
+        assert rows and int(float(rows[-1]["time/total_timesteps"])) >= 256
+        config = yaml.safe_load((run_dir / "config.yml").read_text())
+        assert config["algo"] == algo and config["seed"] == 3
+        assert config["timesteps_done"] >= 256 and config["wall_clock_seconds"] > 0
+        assert config["hyperparams"]["n_envs"] == 2
+        assert config["train_layout_seeds"] == list(TRAIN_LAYOUT_SEEDS)
+
+
+def test_the_evaluation_cli_writes_the_table_plots_and_gifs(
+    trained_runs: dict[str, Path], tmp_path: Path
+):
+    out = tmp_path / "results"
+    run_module(
+        "agents.evaluate",
+        "--runs",
+        *map(str, trained_runs.values()),
+        "--scripted",
+        "random",
+        "oracle",
+        "--episodes",
+        "2",
+        "--out",
+        str(out),
+    )
+    table = (out / "results.md").read_text()
+    for name in ("ppo (gpis map)", "recurrent_ppo (none map)", "random", "oracle"):
+        assert f"| {name} |" in table
+    with (out / "episodes.csv").open() as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == 4 * 2
+    assert {int(r["seed"]) for r in rows} == set(held_out_seeds(2))
+    for figure in ("success.png", "steps.png", "learning_curves.png"):
+        assert (out / figure).stat().st_size > 1000
+    assert len(list((out / "gifs").glob("*.gif"))) == 4
+
+
+def test_held_out_seeds_are_never_drawn_in_training():
+    seeds = held_out_seeds(10_000)
+    assert max(seeds) < TRAIN_LAYOUT_SEEDS[0]
+
+
+@pytest.mark.parametrize(
+    ("successes", "n", "low", "high"),
+    [
+        (0, 10, 0.0, 0.2775),
+        (5, 10, 0.2366, 0.7634),
+        (10, 10, 0.7225, 1.0),
+        (180, 200, 0.8506, 0.9346),
+    ],
+)
+def test_the_wilson_interval_matches_published_values(successes, n, low, high):
+    got = wilson_interval(successes, n)
+    assert got == pytest.approx((low, high), abs=1e-4)
+
+
+def test_the_summary_reports_quartiles_of_successful_episodes_only():
+    episodes = [
+        {
+            "success": s,
+            "steps": t,
+            "tips": 0,
+            "jar_displacement": 0.002,
+            "max_jar_displacement": 0.001,
+            "iou": 0.5,
+        }
+        for s, t in [(True, 10), (True, 20), (True, 30), (False, 200), (True, 40)]
+    ]
+    summary = summarize("x", "gpis", episodes)
+    assert summary.successes == 4 and summary.success_rate == 0.8
+    assert summary.steps_median == 25
+    assert (summary.steps_q1, summary.steps_q3) == (17.5, 32.5)
+    assert summary.displacement_mm == pytest.approx(2.0)
+
+
+def test_bad_training_arguments_raise_value_errors(tmp_path: Path):
+    with pytest.raises(ValueError, match="map must be one of"):
+        train("ppo", "lidar", out=tmp_path)
+    with pytest.raises(ValueError, match="algo must be one of"):
+        load_hyperparams("dqn", "gpis")
+    with pytest.raises(ValueError, match="no 'tactile_search/CupboardSearch-v0' recipe for map"):
+        load_hyperparams("recurrent_ppo", "gpis")
+    with pytest.raises(ValueError, match="timesteps must be >= 1"):
+        train("ppo", "gpis", out=tmp_path, timesteps=0)
+    with pytest.raises(ValueError, match="successes must be"):
+        wilson_interval(3, 2)
