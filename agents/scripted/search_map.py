@@ -1,0 +1,134 @@
+"""The planner's belief: the decoded GPIS map plus its own memory of touch.
+
+From the observation alone: the GPIS mean and std (decoded from the uint8 map), the camera's
+shadows (cells behind surfaces the first look saw, by angular sweeps from the camera), the
+cells the finger has swept without contact (no jar can stand there) and the jars it touched
+(not the target: touching the target ends the episode). From these it gives
+
+- ``hiding_weight``: where the target's centre may be (in a shadow wide enough for a jar,
+  deep enough, not swept, not a touched jar), weighted by the GPIS std;
+- ``blocked``: cells that may hold jar material, which the wrist and arm must keep clear of.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from agents.scripted.geometry import Geometry
+
+# Angular resolution of the shadow sweep, rad.
+ANGLE_BIN = 0.004
+# A target's centre is at least this far behind the surface that hides it, m.
+HIDDEN_DEPTH = 0.035
+# Half width (m) of the shadow needed on each side of a hidden jar's centre.
+SHADOW_HALF_WIDTH = 0.015
+# The mean below which a cell counts as (touched or seen) jar, m.
+SOLID_MEAN = 0.002
+
+
+def decode_map(image: np.ndarray, geometry: Geometry) -> tuple[np.ndarray, np.ndarray]:
+    """GPIS ``(mean, std)``, each ``(H, W)`` in metres, from the uint8 ``(2, H, W)`` map."""
+    pixels = image.astype(np.float64)
+    mean = (pixels[0] - 128.0) / 127.0 * geometry.mean_scale
+    std = pixels[1] / 255.0 * geometry.std_scale
+    return mean, std
+
+
+def distance_to(mask: np.ndarray, xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
+    """Distance from every cell centre to the nearest cell of ``mask`` (inf if none), m."""
+    if not mask.any():
+        return np.full(xs.shape, np.inf)
+    points = np.c_[xs[mask], ys[mask]]
+    flat = np.c_[xs.ravel(), ys.ravel()]
+    best = np.full(flat.shape[0], np.inf)
+    for chunk in np.array_split(points, max(1, len(points) // 256)):
+        d = np.hypot(flat[:, None, 0] - chunk[None, :, 0], flat[:, None, 1] - chunk[None, :, 1])
+        best = np.minimum(best, d.min(axis=1))
+    return best.reshape(xs.shape)
+
+
+class SearchMap:
+    """Belief over the cupboard for one episode; see the module docstring."""
+
+    def __init__(self, geometry: Geometry, image: np.ndarray) -> None:
+        self.geometry = geometry
+        self.xs, self.ys = geometry.cell_centres()
+        self.mean, self.std = decode_map(image, geometry)
+        self.behind, self.behind_wide = self._depth_behind_surfaces(self.mean < 0.0)
+        self.swept = np.zeros(self.xs.shape, dtype=bool)
+        self.touched: list[np.ndarray] = []
+
+    def update(self, image: np.ndarray) -> None:
+        self.mean, self.std = decode_map(image, self.geometry)
+
+    def _depth_behind_surfaces(self, solid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Per cell: range behind the nearest solid cell on its camera ray (−inf if none),
+        and the minimum of that over the rays through the cell's centre and
+        ±SHADOW_HALF_WIDTH beside it (positive: a jar-wide shadow)."""
+        cx, cy = self.geometry.camera
+        angles = np.arctan2(self.xs - cx, self.ys - cy)
+        ranges = np.hypot(self.xs - cx, self.ys - cy)
+        low = angles.min() - 0.5
+        bins = int((angles.max() + 0.5 - low) / ANGLE_BIN) + 1
+        front = np.full(bins, np.inf)
+        half = 0.5 * self.geometry.cell / ranges[solid]
+        first = ((angles[solid] - half - low) / ANGLE_BIN).astype(int)
+        last = ((angles[solid] + half - low) / ANGLE_BIN).astype(int)
+        for a, b, r in zip(first, last, ranges[solid], strict=True):
+            front[a : b + 1] = np.minimum(front[a : b + 1], r)
+        behind = []
+        for side in (0.0, -1.0, 1.0):
+            index = ((angles + side * SHADOW_HALF_WIDTH / ranges - low) / ANGLE_BIN).astype(int)
+            behind.append(ranges - front[np.clip(index, 0, bins - 1)])
+        return behind[0], np.minimum.reduce(behind)
+
+    def sweep_finger(self, joint: np.ndarray, tip: np.ndarray) -> None:
+        """Remembers that the finger segment ``joint``–``tip`` touched nothing: no jar centre
+        lies within the smallest jar radius of it."""
+        radius = self.geometry.jar_radius[0] - 0.25 * self.geometry.cell
+        self.swept |= _segment_distance(self.xs, self.ys, joint, tip) <= radius
+
+    def add_touch(self, point: np.ndarray, normal: np.ndarray) -> None:
+        """Remembers a touched jar (not the target) by its estimated centre."""
+        centre = point - normal * np.mean(self.geometry.jar_radius)
+        if all(np.hypot(*(centre - c)) > 0.02 for c in self.touched):
+            self.touched.append(centre)
+
+    def _near_touched(self, radius: float) -> np.ndarray:
+        near = np.zeros(self.xs.shape, dtype=bool)
+        for cx, cy in self.touched:
+            near |= np.hypot(self.xs - cx, self.ys - cy) <= radius
+        return near
+
+    def hiding_weight(self, relaxed: bool = False) -> np.ndarray:
+        """Where the target's centre may be, weighted by the GPIS std (0 elsewhere).
+        ``relaxed`` drops the shadow and depth conditions (when nothing else is left)."""
+        g = self.geometry
+        r_min, r_max = g.jar_radius
+        fits = (
+            (np.abs(self.xs) <= 0.5 * g.width - g.wall_gap - r_min)
+            & (self.ys <= g.depth - g.wall_gap - r_min)
+            & ~self.swept
+            & ~self._near_touched(r_min + r_max)
+            & (distance_to(self.mean < 0.0, self.xs, self.ys) >= 0.5 * r_min)
+        )
+        if not relaxed:
+            fits &= (self.behind_wide >= HIDDEN_DEPTH) & (
+                self.ys >= g.target_min_depth - 0.5 * g.cell
+            )
+        return np.where(fits, self.std + 0.01, 0.0)
+
+    def blocked(self) -> np.ndarray:
+        """Cells that may hold jar material: seen or touched surfaces and insides, touched
+        jars' footprints, and unswept shadows."""
+        shadow = (self.behind > 0.0) & ~self.swept
+        return (self.mean < SOLID_MEAN) | shadow | self._near_touched(self.geometry.jar_radius[1])
+
+
+def _segment_distance(xs: np.ndarray, ys: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance from every cell centre to the segment ``a``–``b``."""
+    d = b - a
+    length2 = float(d @ d)
+    t = np.zeros(xs.shape) if length2 == 0 else ((xs - a[0]) * d[0] + (ys - a[1]) * d[1]) / length2
+    t = np.clip(t, 0.0, 1.0)
+    return np.hypot(xs - a[0] - t * d[0], ys - a[1] - t * d[1])
