@@ -96,7 +96,7 @@ class ClearanceField:
         padded = np.zeros(gx.shape, dtype=bool)
         padded[PAD_CELLS:, PAD_CELLS : PAD_CELLS + w] = blocked
         padded |= (np.abs(gx) > 0.5 * g.width) & (gy > 0.0)
-        self.distance = distance_to(padded, gx, gy)
+        self.distance = distance_to(padded, g.cell)
 
     def at(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         j = np.floor((x - self.x0) / self.cell).astype(int)
@@ -105,7 +105,6 @@ class ClearanceField:
         inside = (i >= 0) & (i < rows) & (j >= 0) & (j < cols)
         out = np.full(np.shape(x), np.inf)
         out[inside] = self.distance[i[inside], j[inside]]
-        # Points beside the cupboard's side walls but not outside the opening stay blocked.
         return out
 
 
@@ -238,20 +237,23 @@ class GpisPlanner:
         arm_room = g.arm_half_width + MARGIN + 0.5 * g.cell
         along = np.arange(g.wrist_half_extent, g.wrist_half_extent + g.arm_length, g.cell)
         finger = np.linspace(g.joint_offset + 0.02, g.reach, 8)
-        wrist_ok = field.at(np.array([x]), np.array([y]))[0] >= wrist_radius
-        if not wrist_ok:
+        if field.at(np.array([x]), np.array([y]))[0] < wrist_radius:
             return 0.0
-        for k, angle in enumerate(angles):
-            yaw = -side * angle
-            back = -_forward(yaw)
-            ax, ay = x + back[0] * along, y + back[1] * along
-            inside = ay > -g.arm_half_width - g.cell
-            if (field.at(ax[inside], ay[inside]) < arm_room).any():
-                return float(angles[k - 1]) if k else 0.0
-            ahead = _forward(yaw)
-            if (solid.at(x + ahead[0] * finger, y + ahead[1] * finger) < 0.5 * g.cell).any():
-                return float(angle)
-        return float(angles[-1])
+        yaws = -side * angles
+        forward = np.stack([-np.sin(yaws), np.cos(yaws)])  # (2, A)
+        ax = x - forward[0][:, None] * along
+        ay = y - forward[1][:, None] * along
+        arm_clear = (field.at(ax, ay) >= arm_room) | (ay <= -g.arm_half_width - g.cell)
+        arm_ok = arm_clear.all(axis=1)
+        fx = x + forward[0][:, None] * finger
+        fy = y + forward[1][:, None] * finger
+        finger_free = (solid.at(fx, fy) >= 0.5 * g.cell).all(axis=1)
+        # The turn stops at the first angle the arm cannot take, or just after the finger
+        # meets a seen jar.
+        safe = np.cumprod(arm_ok).astype(bool)
+        reached = np.cumprod(np.r_[True, finger_free[:-1]]).astype(bool)
+        ok = safe & reached
+        return float(angles[ok][-1]) if ok.any() else 0.0
 
     def _covers(self, probe: Probe, cells: np.ndarray) -> np.ndarray:
         """Which candidate centres lie within a jar radius of the probe's finger path."""

@@ -34,17 +34,22 @@ def decode_map(image: np.ndarray, geometry: Geometry) -> tuple[np.ndarray, np.nd
     return mean, std
 
 
-def distance_to(mask: np.ndarray, xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
-    """Distance from every cell centre to the nearest cell of ``mask`` (inf if none), m."""
-    if not mask.any():
-        return np.full(xs.shape, np.inf)
-    points = np.c_[xs[mask], ys[mask]]
-    flat = np.c_[xs.ravel(), ys.ravel()]
-    best = np.full(flat.shape[0], np.inf)
-    for chunk in np.array_split(points, max(1, len(points) // 256)):
-        d = np.hypot(flat[:, None, 0] - chunk[None, :, 0], flat[:, None, 1] - chunk[None, :, 1])
-        best = np.minimum(best, d.min(axis=1))
-    return best.reshape(xs.shape)
+def distance_to(mask: np.ndarray, cell: float, cap: float = 0.08) -> np.ndarray:
+    """Distance from every cell centre to the nearest centre of a ``mask`` cell, capped at
+    ``cap`` (m), on a grid of square cells of side ``cell``."""
+    reach = int(np.ceil(cap / cell))
+    height, width = mask.shape
+    padded = np.zeros((height + 2 * reach, width + 2 * reach), dtype=bool)
+    padded[reach : reach + height, reach : reach + width] = mask
+    best = np.full(mask.shape, cap)
+    for di in range(-reach, reach + 1):
+        for dj in range(-reach, reach + 1):
+            d = cell * np.hypot(di, dj)
+            if d >= cap:
+                continue
+            shifted = padded[reach + di : reach + di + height, reach + dj : reach + dj + width]
+            best[shifted] = np.minimum(best[shifted], d)
+    return best
 
 
 class SearchMap:
@@ -62,7 +67,7 @@ class SearchMap:
         self.mean, self.std = decode_map(image, self.geometry)
 
     def _depth_behind_surfaces(self, solid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Per cell: range behind the nearest solid cell on its camera ray (−inf if none),
+        """Per cell: range behind the nearest solid cell on its camera ray (-inf if none),
         and the minimum of that over the rays through the cell's centre and
         ±SHADOW_HALF_WIDTH beside it (positive: a jar-wide shadow)."""
         cx, cy = self.geometry.camera
@@ -83,7 +88,7 @@ class SearchMap:
         return behind[0], np.minimum.reduce(behind)
 
     def sweep_finger(self, joint: np.ndarray, tip: np.ndarray) -> None:
-        """Remembers that the finger segment ``joint``–``tip`` touched nothing: no jar centre
+        """Remembers that the finger segment ``joint`` to ``tip`` touched nothing: no jar centre
         lies within the smallest jar radius of it."""
         radius = self.geometry.jar_radius[0] - 0.25 * self.geometry.cell
         self.swept |= _segment_distance(self.xs, self.ys, joint, tip) <= radius
@@ -110,7 +115,7 @@ class SearchMap:
             & (self.ys <= g.depth - g.wall_gap - r_min)
             & ~self.swept
             & ~self._near_touched(r_min + r_max)
-            & (distance_to(self.mean < 0.0, self.xs, self.ys) >= 0.5 * r_min)
+            & (distance_to(self.mean < 0.0, g.cell) >= 0.5 * r_min)
         )
         if not relaxed:
             fits &= (self.behind_wide >= HIDDEN_DEPTH) & (
@@ -126,7 +131,7 @@ class SearchMap:
 
 
 def _segment_distance(xs: np.ndarray, ys: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Distance from every cell centre to the segment ``a``–``b``."""
+    """Distance from every cell centre to the segment from ``a`` to ``b``."""
     d = b - a
     length2 = float(d @ d)
     t = np.zeros(xs.shape) if length2 == 0 else ((xs - a[0]) * d[0] + (ys - a[1]) * d[1]) / length2
