@@ -189,7 +189,7 @@ class GpisPlanner:
         if not weight.any():
             weight = self.belief.hiding_weight(relaxed=True)
         field = ClearanceField(self.belief, self.belief.blocked())
-        solid = ClearanceField(self.belief, self.belief.mean < 0.0)
+        solid = ClearanceField(self.belief, self.belief.solid(0.0))
         best = Probe(self.geometry.start[0], self.geometry.start[1], 1.0, 0.0, -1.0)
         mask = weight > 0
         cells = np.c_[self.belief.xs[mask], self.belief.ys[mask]]

@@ -8,6 +8,9 @@ cells the finger has swept without contact (no jar can stand there) and the jars
 - ``hiding_weight``: where the target's centre may be (in a shadow wide enough for a jar,
   deep enough, not swept, not a touched jar), weighted by the GPIS std;
 - ``blocked``: cells that may hold jar material, which the wrist and arm must keep clear of.
+
+A negative mean counts as a jar only where the std is low: far from the data the GPIS
+extrapolates (behind the jars it often dips below zero).
 """
 
 from __future__ import annotations
@@ -22,8 +25,10 @@ ANGLE_BIN = 0.004
 HIDDEN_DEPTH = 0.035
 # Half width (m) of the shadow needed on each side of a hidden jar's centre.
 SHADOW_HALF_WIDTH = 0.015
-# The mean below which a cell counts as (touched or seen) jar, m.
+# The mean below which a cell counts as (touched or seen) jar, m...
 SOLID_MEAN = 0.002
+# ...where the std is below this (elsewhere a negative mean is the GPIS extrapolating), m.
+SOLID_STD = 0.02
 
 
 def decode_map(image: np.ndarray, geometry: Geometry) -> tuple[np.ndarray, np.ndarray]:
@@ -59,12 +64,16 @@ class SearchMap:
         self.geometry = geometry
         self.xs, self.ys = geometry.cell_centres()
         self.mean, self.std = decode_map(image, geometry)
-        self.behind, self.behind_wide = self._depth_behind_surfaces(self.mean < 0.0)
+        self.behind, self.behind_wide = self._depth_behind_surfaces(self.solid(0.0))
         self.swept = np.zeros(self.xs.shape, dtype=bool)
         self.touched: list[np.ndarray] = []
 
     def update(self, image: np.ndarray) -> None:
         self.mean, self.std = decode_map(image, self.geometry)
+
+    def solid(self, level: float = SOLID_MEAN) -> np.ndarray:
+        """Cells the map is confident are inside or on a jar (mean below ``level``)."""
+        return (self.mean < level) & (self.std < SOLID_STD)
 
     def _depth_behind_surfaces(self, solid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Per cell: range behind the nearest solid cell on its camera ray (-inf if none),
@@ -115,7 +124,7 @@ class SearchMap:
             & (self.ys <= g.depth - g.wall_gap - r_min)
             & ~self.swept
             & ~self._near_touched(r_min + r_max)
-            & (distance_to(self.mean < 0.0, g.cell) >= 0.5 * r_min)
+            & (distance_to(self.solid(0.0), g.cell) >= 0.5 * r_min)
         )
         if not relaxed:
             fits &= (self.behind_wide >= HIDDEN_DEPTH) & (
@@ -126,8 +135,8 @@ class SearchMap:
     def blocked(self) -> np.ndarray:
         """Cells that may hold jar material: seen or touched surfaces and insides, touched
         jars' footprints, and unswept shadows."""
-        shadow = (self.behind > 0.0) & ~self.swept
-        return (self.mean < SOLID_MEAN) | shadow | self._near_touched(self.geometry.jar_radius[1])
+        unknown = (self.behind > 0.0) & ~self.swept
+        return self.solid() | unknown | self._near_touched(self.geometry.jar_radius[1])
 
 
 def _segment_distance(xs: np.ndarray, ys: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
