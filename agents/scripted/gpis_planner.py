@@ -155,11 +155,33 @@ class GpisPlanner:
         x = x0 + (float(proprio[0]) + 1.0) * 0.5 * (x1 - x0)
         y = y0 + (float(proprio[1]) + 1.0) * 0.5 * (y1 - y0)
         yaw = float(np.arctan2(proprio[3], proprio[2]))
+        deflection = float(proprio[4]) * g.finger_limit
         contact = normal = None
         if proprio[5] > 0.5:
-            contact = np.array([x, y]) + g.finger_length * np.asarray(proprio[6:8], float)
+            contact = self._contact_point(x, y, yaw + deflection, yaw, proprio[6:8])
             normal = np.asarray(proprio[8:10], float)
-        return Pose(x, y, yaw, float(proprio[4]) * g.finger_limit, contact, normal)
+        return Pose(x, y, yaw, deflection, contact, normal)
+
+    def _contact_point(
+        self, x: float, y: float, heading: float, yaw: float, offset: np.ndarray
+    ) -> np.ndarray:
+        """The contact point from its offset to the wrist (over the finger length). The
+        observation clips the offset to [-1, 1], which cuts off contacts near the fingertip;
+        those are put back on the finger from the unclipped component."""
+        g = self.geometry
+        offset = np.asarray(offset, float)
+        point = np.array([x, y]) + g.finger_length * offset
+        clipped = np.abs(offset) >= 0.999
+        if not clipped.any():
+            return point
+        joint = np.array([x, y]) + g.joint_offset * _forward(yaw)
+        direction = _forward(heading)
+        along = g.finger_length
+        for axis in (0, 1):
+            if not clipped[axis] and abs(direction[axis]) > 0.3:
+                along = float(np.clip((point[axis] - joint[axis]) / direction[axis], 0.0, along))
+                break
+        return joint + along * direction
 
     def _remember_touch(self, pose: Pose) -> None:
         """Adds a touched jar, or the finger's sweep since the last step, to the belief; a

@@ -10,7 +10,9 @@ cells the finger has swept without contact (no jar can stand there) and the jars
 - ``blocked``: cells that may hold jar material, which the wrist and arm must keep clear of.
 
 A negative mean counts as a jar only where the std is low: far from the data the GPIS
-extrapolates (behind the jars it often dips below zero).
+extrapolates (behind the jars it often dips below zero). Where the target may hide is judged
+on the camera's map (``seen``): a touch pulls the mean below zero well beyond the touched
+jar, so touched jars are excluded by their estimated centres instead.
 """
 
 from __future__ import annotations
@@ -64,7 +66,8 @@ class SearchMap:
         self.geometry = geometry
         self.xs, self.ys = geometry.cell_centres()
         self.mean, self.std = decode_map(image, geometry)
-        self.behind, self.behind_wide = self._depth_behind_surfaces(self.solid(0.0))
+        self.seen = self.solid(0.0)
+        self.behind, self.behind_wide = self._depth_behind_surfaces(self.seen)
         self.swept = np.zeros(self.xs.shape, dtype=bool)
         self.touched: list[np.ndarray] = []
 
@@ -118,13 +121,13 @@ class SearchMap:
         """Where the target's centre may be, weighted by the GPIS std (0 elsewhere).
         ``relaxed`` drops the shadow and depth conditions (when nothing else is left)."""
         g = self.geometry
-        r_min, r_max = g.jar_radius
+        r_min = g.jar_radius[0]
         fits = (
             (np.abs(self.xs) <= 0.5 * g.width - g.wall_gap - r_min)
             & (self.ys <= g.depth - g.wall_gap - r_min)
             & ~self.swept
-            & ~self._near_touched(r_min + r_max)
-            & (distance_to(self.solid(0.0), g.cell) >= 0.5 * r_min)
+            & ~self._near_touched(2.0 * r_min)
+            & (distance_to(self.seen, g.cell) >= 0.5 * r_min)
         )
         if not relaxed:
             fits &= (self.behind_wide >= HIDDEN_DEPTH) & (
