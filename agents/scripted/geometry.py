@@ -1,0 +1,136 @@
+"""The static geometry a planner may know: cupboard, hand, camera, map grid, layout priors.
+
+No ground truth of an episode: the numbers come from the env's config (its ``scene_config``
+overrides) and, where the core exposes them, from a scene built with the same config (the
+cupboard, the camera and the hand's start pose). Hand sizes and layout ranges the core does
+not expose are the scene defaults (``HandConfig`` and ``LayoutConfig`` in
+``env_core/src/scene/config.rs``), overridden by the same keys of ``scene_config``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+from typing import Any
+
+import numpy as np
+
+from tactile_search import CupboardSearchEnv, _core
+
+# Scene defaults the core does not expose as readable properties (keys of Scene.config_keys()).
+SCENE_DEFAULTS: dict[str, Any] = {
+    "workspace": ((-0.45, 0.45), (-0.30, 0.30)),
+    "max_step_translation": 0.01,
+    "max_step_yaw": 0.1,
+    "wrist_half_extent": 0.015,
+    "arm_length": 0.40,
+    "arm_half_width": 0.012,
+    "finger_length": 0.10,
+    "finger_half_thickness": 0.003,
+    "finger_limit": 1.2,
+    "round_diameter": (0.045, 0.055),
+    "square_side": (0.045, 0.050),
+    "target_min_depth": 0.17,
+    "wall_gap": 0.008,
+}
+# Gap between the wrist's front face and the finger's joint (env_core/src/scene/hand.rs), m.
+JOINT_GAP = 0.002
+
+
+@functools.lru_cache(maxsize=8)
+def _probe_scene(scene_items: tuple) -> tuple:
+    scene = _core.Scene(0, config=dict(scene_items))
+    camera = scene.camera["position"]
+    return (
+        scene.cupboard["width"],
+        scene.cupboard["depth"],
+        (float(camera[0]), float(camera[1])),
+        tuple(scene.hand_pose),
+    )
+
+
+@dataclasses.dataclass(frozen=True)
+class Geometry:
+    """Static sizes in metres (and radians); see the module docstring for the sources."""
+
+    width: float
+    depth: float
+    camera: tuple[float, float]
+    start: tuple[float, float, float]
+    workspace: tuple[tuple[float, float], tuple[float, float]]
+    max_step_translation: float
+    max_step_yaw: float
+    wrist_half_extent: float
+    arm_length: float
+    arm_half_width: float
+    finger_length: float
+    finger_half_thickness: float
+    finger_limit: float
+    jar_radius: tuple[float, float]
+    target_min_depth: float
+    wall_gap: float
+    grid_shape: tuple[int, int]
+    mean_scale: float
+    std_scale: float
+
+    @classmethod
+    def from_env(cls, env: CupboardSearchEnv) -> Geometry:
+        scene_config = env.config.scene_dict()
+        value = {**SCENE_DEFAULTS, **scene_config}
+        items = tuple(sorted((k, _hashable(v)) for k, v in scene_config.items()))
+        width, depth, camera, start = _probe_scene(items)
+        radii = (
+            0.5 * min(value["round_diameter"][0], value["square_side"][0]),
+            0.5 * max(value["round_diameter"][1], np.sqrt(2.0) * value["square_side"][1]),
+        )
+        (x0, x1), (y0, y1) = value["workspace"]
+        return cls(
+            width=width,
+            depth=depth,
+            camera=camera,
+            start=start,
+            workspace=((float(x0), float(x1)), (float(y0), float(y1))),
+            max_step_translation=float(value["max_step_translation"]),
+            max_step_yaw=float(value["max_step_yaw"]),
+            wrist_half_extent=float(value["wrist_half_extent"]),
+            arm_length=float(value["arm_length"]),
+            arm_half_width=float(value["arm_half_width"]),
+            finger_length=float(value["finger_length"]),
+            finger_half_thickness=float(value["finger_half_thickness"]),
+            finger_limit=float(value["finger_limit"]),
+            jar_radius=radii,
+            target_min_depth=float(value["target_min_depth"]),
+            wall_gap=float(value["wall_gap"]),
+            grid_shape=tuple(env.config.grid_shape),
+            mean_scale=float(env.config.mean_scale),
+            std_scale=float(env.config.std_scale),
+        )
+
+    @property
+    def joint_offset(self) -> float:
+        """Distance from the wrist's centre to the finger's joint, m."""
+        return self.wrist_half_extent + JOINT_GAP
+
+    @property
+    def reach(self) -> float:
+        """Distance from the wrist's centre to the fingertip, m."""
+        return self.joint_offset + self.finger_length
+
+    @property
+    def cell(self) -> float:
+        """Side of a (square) map cell, m."""
+        return self.depth / self.grid_shape[0]
+
+    def cell_centres(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(xs, ys)``, each ``(H, W)``: the map cells' centres (row i along y, column j
+        along x)."""
+        height, width = self.grid_shape
+        xs = -0.5 * self.width + (np.arange(width) + 0.5) * self.width / width
+        ys = (np.arange(height) + 0.5) * self.depth / height
+        return np.meshgrid(xs, ys)
+
+
+def _hashable(value: Any) -> Any:
+    if isinstance(value, list | tuple):
+        return tuple(_hashable(v) for v in value)
+    return value

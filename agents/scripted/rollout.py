@@ -1,0 +1,44 @@
+"""Run an agent for one episode per seed and summarise each episode."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from agents.scripted.base import Agent
+from tactile_search import CupboardSearchEnv
+
+
+def run_episodes(
+    agent: Agent, seeds: list[int], max_steps: int | None = None, **env_kwargs: Any
+) -> list[dict[str, Any]]:
+    """One ``CupboardSearchEnv`` episode per seed with ``agent``; per-episode summaries.
+
+    ``max_steps`` defaults to the env's ``max_steps`` (the registered time limit). Each dict:
+    seed, success, steps, tips, jar_displacement, max_jar_displacement, iou (final), reward.
+    """
+    env = CupboardSearchEnv(**env_kwargs)
+    limit = env.config.max_steps if max_steps is None else max_steps
+    results = []
+    for seed in seeds:
+        observation, info = env.reset(seed=seed)
+        agent.reset(env, observation, info)
+        total = 0.0
+        for _ in range(limit):
+            observation, reward, terminated, _, info = env.step(agent.act(observation))
+            total += reward
+            if terminated:
+                break
+        results.append(
+            {
+                "seed": seed,
+                "success": bool(info["success"]),
+                "steps": int(info["steps"]),
+                "tips": int(info["tips"]),
+                "jar_displacement": float(info["jar_displacement"]),
+                "max_jar_displacement": float(info["max_jar_displacement"]),
+                "iou": float(info["iou"]),
+                "reward": total,
+            }
+        )
+    env.close()
+    return results

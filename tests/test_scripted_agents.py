@@ -1,0 +1,79 @@
+"""The scripted baselines: the planner finds targets without ground truth, random actions
+are bounded and seeded, the oracle solves an episode, and the rollout summarises it."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+
+from agents.scripted import SCRIPTED_AGENTS, GpisPlanner, OracleAgent, RandomAgent
+from agents.scripted.rollout import run_episodes
+from tactile_search import CupboardSearchEnv
+
+# Held-in seeds the planner solves quickly (the measurement uses 1_000_000 onwards).
+PLANNER_SEEDS = [0, 1, 2, 3, 4]
+
+
+class NoGroundTruthEnv(CupboardSearchEnv):
+    """An env whose ground truth (state and oracle) cannot be read."""
+
+    def render_state(self) -> dict[str, Any]:
+        raise AssertionError("the agent read the ground truth (render_state)")
+
+    def oracle_action(self) -> np.ndarray:
+        raise AssertionError("the agent asked the oracle")
+
+
+def run(agent: Any, env: CupboardSearchEnv, seed: int) -> dict[str, Any]:
+    observation, info = env.reset(seed=seed)
+    agent.reset(env, observation, info)
+    for _ in range(env.config.max_steps):
+        action = agent.act(observation)
+        assert action.shape == (3,) and action.dtype == np.float32
+        assert np.all(np.abs(action) <= 1.0)
+        observation, _, terminated, _, info = env.step(action)
+        if terminated:
+            break
+    return info
+
+
+@pytest.mark.parametrize("seed", PLANNER_SEEDS)
+def test_planner_touches_the_target_without_ground_truth_or_tipping(seed: int) -> None:
+    info = run(GpisPlanner(), NoGroundTruthEnv(), seed)
+    assert info["success"] and info["tips"] == 0
+
+
+def test_planner_needs_the_gpis_map() -> None:
+    env = CupboardSearchEnv(map="none")
+    observation, info = env.reset(seed=0)
+    with pytest.raises(ValueError, match="map"):
+        GpisPlanner().reset(env, observation, info)
+
+
+def test_random_actions_are_in_bounds_and_seeded() -> None:
+    first, second, other = RandomAgent(7), RandomAgent(7), RandomAgent(8)
+    a = np.array([first.act({}) for _ in range(100)])
+    b = np.array([second.act({}) for _ in range(100)])
+    assert a.dtype == np.float32 and np.all(np.abs(a) <= 1.0)
+    np.testing.assert_array_equal(a, b)
+    assert not np.array_equal(a, np.array([other.act({}) for _ in range(100)]))
+
+
+def test_oracle_touches_the_target() -> None:
+    assert run(OracleAgent(), CupboardSearchEnv(), 2)["success"]
+
+
+def test_run_episodes_summarises_each_seed() -> None:
+    results = run_episodes(OracleAgent(), [2, 3])
+    assert [r["seed"] for r in results] == [2, 3]
+    assert all(r["success"] and r["steps"] > 0 and r["tips"] == 0 for r in results)
+    keys = {"jar_displacement", "max_jar_displacement", "iou", "reward"}
+    assert keys <= results[0].keys()
+
+
+def test_registry_builds_every_scripted_agent() -> None:
+    assert set(SCRIPTED_AGENTS) == {"random", "oracle", "gpis_planner"}
+    for name, factory in SCRIPTED_AGENTS.items():
+        assert factory().name == name
