@@ -221,18 +221,23 @@ def plot_learning_curves(path: Path, runs: dict[str, Path]) -> None:
     plt.close(fig)
 
 
-def record_gif(path: Path, agent: Any, map_mode: str, seed: int, max_frames: int = 200) -> None:
-    """One episode of ``agent`` on layout ``seed``, rendered to a GIF."""
+def record_gif(
+    path: Path, agent: Any, map_mode: str, seed: int, max_steps: int = 200, stride: int = 2
+) -> None:
+    """The first ``max_steps`` steps of ``agent`` on layout ``seed`` as a GIF, one frame every
+    ``stride`` steps plus the last (a frame takes ~0.2 s to draw)."""
     from tactile_search.render import save_gif
 
     env = gym.make(ENV_ID, map=map_mode, render_mode="rgb_array")
     observation, info = env.reset(seed=seed)
     agent.reset(env.unwrapped, observation, info)
     frames = [env.render()]
-    for _ in range(max_frames):
+    for step in range(1, max_steps + 1):
         observation, _, terminated, truncated, _ = env.step(agent.act(observation))
-        frames.append(env.render())
-        if terminated or truncated:
+        done = terminated or truncated or step == max_steps
+        if step % stride == 0 or done:
+            frames.append(env.render())
+        if done:
             break
     env.close()
     save_gif(frames, path)
@@ -244,11 +249,12 @@ def evaluate(
     out: Path = Path("results"),
     episodes: int = 200,
     gifs: bool = True,
+    gif_steps: int = 200,
 ) -> list[Summary]:
     """Runs every agent on the same held-out layouts and writes the table, plots and GIFs.
 
     ``agent_specs``: scripted agent names (``random``, ``gpis_planner``, ``oracle``) and run
-    directories of ``agents.train``.
+    directories of ``agents.train``. ``gif_steps`` caps the steps an example GIF shows.
     """
     if not agent_specs:
         raise ValueError("give at least one agent (a scripted name or a run directory)")
@@ -269,7 +275,8 @@ def evaluate(
         if gifs:
             (out / "gifs").mkdir(exist_ok=True)
             file_name = agent.name.replace(" ", "_").replace("(", "").replace(")", "")
-            record_gif(out / "gifs" / f"{file_name}.gif", agent, map_mode, seeds[0])
+            gif_path = out / "gifs" / f"{file_name}.gif"
+            record_gif(gif_path, agent, map_mode, seeds[0], max_steps=gif_steps)
         print(markdown_table(summaries[-1:]).splitlines()[-1], flush=True)
     table = markdown_table(summaries)
     (out / "results.md").write_text(
@@ -295,9 +302,14 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--episodes", type=int, default=200)
     parser.add_argument("--out", type=Path, default=Path("results"))
     parser.add_argument("--no-gifs", action="store_true")
+    parser.add_argument("--gif-steps", type=int, default=200, help="steps shown per GIF")
     args = parser.parse_args(argv)
     summaries = evaluate(
-        [*args.runs, *args.scripted], out=args.out, episodes=args.episodes, gifs=not args.no_gifs
+        [*args.runs, *args.scripted],
+        out=args.out,
+        episodes=args.episodes,
+        gifs=not args.no_gifs,
+        gif_steps=args.gif_steps,
     )
     print(markdown_table(summaries))
 

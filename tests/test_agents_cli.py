@@ -82,6 +82,8 @@ def test_the_evaluation_cli_writes_the_table_plots_and_gifs(
         "2",
         "--out",
         str(out),
+        "--gif-steps",
+        "4",
     )
     table = (out / "results.md").read_text()
     for name in ("ppo (gpis map)", "recurrent_ppo (none map)", "random", "oracle"):
@@ -106,7 +108,7 @@ def test_held_out_seeds_are_never_drawn_in_training():
         (0, 10, 0.0, 0.2775),
         (5, 10, 0.2366, 0.7634),
         (10, 10, 0.7225, 1.0),
-        (180, 200, 0.8506, 0.9346),
+        (180, 200, 0.8506, 0.9343),
     ],
 )
 def test_the_wilson_interval_matches_published_values(successes, n, low, high):
