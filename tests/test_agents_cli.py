@@ -146,3 +146,15 @@ def test_bad_training_arguments_raise_value_errors(tmp_path: Path):
         train("ppo", "gpis", out=tmp_path, timesteps=0)
     with pytest.raises(ValueError, match="successes must be"):
         wilson_interval(3, 2)
+
+
+def test_regenerated_results_keep_the_hand_written_findings(tmp_path: Path):
+    from agents.pipeline import write_results
+
+    path = tmp_path / "RESULTS.md"
+    write_results(path, "table v1")
+    path.write_text("# Results\n\nintro\n\n" + path.read_text() + "\n## Findings\n\nwhy\n")
+    write_results(path, "table v2")
+    text = path.read_text()
+    assert "table v2" in text and "table v1" not in text
+    assert text.startswith("# Results\n\nintro") and text.endswith("## Findings\n\nwhy\n")

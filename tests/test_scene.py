@@ -179,3 +179,11 @@ def test_every_config_key_is_wired_and_type_checked(key: str) -> None:
     # key would be a ValueError).
     with pytest.raises(TypeError, match=key):
         Scene(seed=0, **{key: object()})
+
+
+def test_scene_config_lists_every_key_and_round_trips():
+    scene = Scene(0, config={"finger_length": 0.12, "jar_count": (3, 5)})
+    config = scene.config
+    assert sorted(config) == sorted(Scene.config_keys())
+    assert config["finger_length"] == 0.12 and list(config["jar_count"]) == [3, 5]
+    assert Scene(0, config=config).config == config

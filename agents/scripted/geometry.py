@@ -1,10 +1,8 @@
 """The static geometry a planner may know: cupboard, hand, camera, map grid, layout priors.
 
-No ground truth of an episode: the numbers come from the env's config (its ``scene_config``
-overrides) and, where the core exposes them, from a scene built with the same config (the
-cupboard, the camera and the hand's start pose). Hand sizes and layout ranges the core does
-not expose are the scene defaults (``HandConfig`` and ``LayoutConfig`` in
-``env_core/src/scene/config.rs``), overridden by the same keys of ``scene_config``.
+No ground truth of an episode: the numbers come from the env's config and from a scene
+built with the same ``scene_config`` (``Scene.config``: the core's defaults plus the
+overrides; the cupboard, the camera and the hand's start pose).
 """
 
 from __future__ import annotations
@@ -17,22 +15,6 @@ import numpy as np
 
 from tactile_search import CupboardSearchEnv, _core
 
-# Scene defaults the core does not expose as readable properties (keys of Scene.config_keys()).
-SCENE_DEFAULTS: dict[str, Any] = {
-    "workspace": ((-0.45, 0.45), (-0.30, 0.30)),
-    "max_step_translation": 0.01,
-    "max_step_yaw": 0.1,
-    "wrist_half_extent": 0.015,
-    "arm_length": 0.40,
-    "arm_half_width": 0.012,
-    "finger_length": 0.10,
-    "finger_half_thickness": 0.003,
-    "finger_limit": 1.2,
-    "round_diameter": (0.045, 0.055),
-    "square_side": (0.045, 0.050),
-    "target_min_depth": 0.17,
-    "wall_gap": 0.008,
-}
 # Gap between the wrist's front face and the finger's joint (env_core/src/scene/hand.rs), m.
 JOINT_GAP = 0.002
 
@@ -46,6 +28,7 @@ def _probe_scene(scene_items: tuple) -> tuple:
         scene.cupboard["depth"],
         (float(camera[0]), float(camera[1])),
         tuple(scene.hand_pose),
+        scene.config,
     )
 
 
@@ -76,14 +59,13 @@ class Geometry:
     @classmethod
     def from_env(cls, env: CupboardSearchEnv) -> Geometry:
         scene_config = env.config.scene_dict()
-        value = {**SCENE_DEFAULTS, **scene_config}
         items = tuple(sorted((k, _hashable(v)) for k, v in scene_config.items()))
-        width, depth, camera, start = _probe_scene(items)
+        width, depth, camera, start, value = _probe_scene(items)
         radii = (
             0.5 * min(value["round_diameter"][0], value["square_side"][0]),
             0.5 * max(value["round_diameter"][1], np.sqrt(2.0) * value["square_side"][1]),
         )
-        (x0, x1), (y0, y1) = value["workspace"]
+        x0, x1, y0, y1 = value["workspace"]
         return cls(
             width=width,
             depth=depth,

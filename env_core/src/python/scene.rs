@@ -231,6 +231,72 @@ fn apply(config: &mut SceneConfig, key: &str, value: &Bound<'_, PyAny>) -> PyRes
     Ok(())
 }
 
+/// Every key of [`KEYS`] with its value in `c` (the inverse of [`config_from`]).
+fn config_dict<'py>(py: Python<'py>, c: &SceneConfig) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let (l, k, h) = (&c.layout, &c.camera.intrinsics, &c.hand);
+    let [[x0, x1], [y0, y1]] = h.workspace;
+    d.set_item("slice_height", c.slice_height)?;
+    d.set_item("cupboard_width", c.cupboard.width)?;
+    d.set_item("cupboard_depth", c.cupboard.depth)?;
+    d.set_item("cupboard_height", c.cupboard.height)?;
+    d.set_item("wall_thickness", c.cupboard.wall_thickness)?;
+    d.set_item("wall_friction", c.cupboard.friction)?;
+    d.set_item("jar_count", l.jar_count.to_vec())?;
+    d.set_item("round_fraction", l.round_fraction)?;
+    d.set_item("target_shape", l.target_shape.name())?;
+    d.set_item("round_diameter", l.round_diameter.to_vec())?;
+    d.set_item("square_side", l.square_side.to_vec())?;
+    d.set_item("jar_height", l.jar_height.to_vec())?;
+    d.set_item("jar_mass", l.jar_mass.to_vec())?;
+    d.set_item("jar_friction", l.jar_friction)?;
+    d.set_item("max_visible_fraction", l.max_visible_fraction)?;
+    d.set_item("target_min_depth", l.target_min_depth)?;
+    d.set_item("min_gap", l.min_gap)?;
+    d.set_item("wall_gap", l.wall_gap)?;
+    d.set_item("corridor_width", l.corridor_width)?;
+    d.set_item("corridor_clearance", l.corridor_clearance)?;
+    d.set_item("max_attempts", l.max_attempts)?;
+    d.set_item("camera_width", k.width)?;
+    d.set_item("camera_height", k.height)?;
+    d.set_item("camera_hfov", 2.0 * (0.5 * k.width as f64 / k.fx).atan())?;
+    d.set_item("camera_fx", k.fx)?;
+    d.set_item("camera_fy", k.fy)?;
+    d.set_item("camera_cx", k.cx)?;
+    d.set_item("camera_cy", k.cy)?;
+    d.set_item("camera_position", c.camera.position.to_vec())?;
+    d.set_item("camera_look_at", c.camera.look_at.to_vec())?;
+    d.set_item("camera_max_range", c.camera.max_range)?;
+    d.set_item("slice_band", c.camera.slice_band)?;
+    d.set_item("depth_noise_std", c.camera.noise_std)?;
+    d.set_item("max_slice_points", c.camera.max_slice_points)?;
+    d.set_item("hand_start", h.start.to_vec())?;
+    d.set_item("max_step_translation", h.max_step_translation)?;
+    d.set_item("max_step_yaw", h.max_step_yaw)?;
+    d.set_item("workspace", vec![x0, x1, y0, y1])?;
+    d.set_item("wrist_half_extent", h.wrist_half_extent)?;
+    d.set_item("arm_length", h.arm_length)?;
+    d.set_item("arm_half_width", h.arm_half_width)?;
+    d.set_item("finger_length", h.finger_length)?;
+    d.set_item("finger_half_thickness", h.finger_half_thickness)?;
+    d.set_item("finger_half_height", h.finger_half_height)?;
+    d.set_item("finger_mass", h.finger_mass)?;
+    d.set_item("finger_friction", h.finger_friction)?;
+    d.set_item("finger_stiffness", h.finger_stiffness)?;
+    d.set_item("finger_damping", h.finger_damping)?;
+    d.set_item("finger_limit", h.finger_limit)?;
+    d.set_item("rigid_finger", h.rigid_finger)?;
+    d.set_item("wall_margin", h.wall_margin)?;
+    d.set_item("touch_max_distance", c.touch.max_distance)?;
+    d.set_item("touch_merge_distance", c.touch.merge_distance)?;
+    d.set_item("touch_point_noise_std", c.touch.point_noise_std)?;
+    d.set_item("touch_normal_noise_std", c.touch.normal_noise_std)?;
+    d.set_item("dt", c.physics.dt)?;
+    d.set_item("substeps", c.physics.substeps)?;
+    d.set_item("solver_iterations", c.physics.solver_iterations)?;
+    Ok(d)
+}
+
 /// Builds a config from the defaults, a dict, then keyword arguments (a key given in both is
 /// an error).
 pub(super) fn config_from(
@@ -449,6 +515,13 @@ impl PyScene {
         let inner = &mut self.inner;
         let look = py.detach(|| inner.capture());
         capture_dict(py, &look)
+    }
+
+    /// Every setting of this scene by its config key (the defaults plus what was given): a
+    /// dict that `Scene(seed, config=...)` accepts back.
+    #[getter]
+    fn config<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        config_dict(py, self.inner.config())
     }
 
     /// The first look taken at reset, as a dict of arrays: depth (H, W), labels (H, W),
