@@ -16,6 +16,7 @@ no-map agent) at its recipe's ``n_timesteps`` and evaluates on 200 layouts. A ru
 from __future__ import annotations
 
 import argparse
+import shutil
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -82,7 +83,8 @@ def results_markdown(budget_name: str, budget: Budget, run_dirs: list[Path], tab
     lines = [
         f"Produced by `make results` (`python -m agents.pipeline --budget {budget_name}`) on a",
         "2-core CPU machine without a GPU. Figures and per-episode rows are in",
-        f"[`{budget.results.name}/`]({budget.results.name}/).",
+        f"[`{budget.results.name}/`]({budget.results.name}/); each run's config and training log",
+        f"in `{budget.results.name}/training/`.",
         "",
         "## Budgets and seeds",
         "",
@@ -150,6 +152,11 @@ def run(budget_name: str, seed: int = 0, progress_bar: bool = True) -> Path:
         [*map(str, run_dirs), *SCRIPTED], out=budget.results, episodes=budget.episodes
     )
     table = markdown_table(summaries)
+    for run_dir in run_dirs:  # the record of each run beside the results (models stay out)
+        record = budget.results / "training" / run_dir.name
+        record.mkdir(parents=True, exist_ok=True)
+        for name in ("config.yml", "progress.csv"):
+            shutil.copyfile(run_dir / name, record / name)
     if budget_name == "full":
         path = budget.results.parent / "RESULTS.md"
         write_results(path, results_markdown(budget_name, budget, run_dirs, table))
