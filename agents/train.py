@@ -34,7 +34,7 @@ MAP_MODES = ("gpis", "occupancy", "none")
 # Training layouts are drawn from [2**32, 2**63); evaluation holds out seeds below 2**32.
 TRAIN_LAYOUT_SEEDS = (2**32, 2**63)
 # Recipe keys that configure the run rather than the algorithm.
-RUN_KEYS = ("n_timesteps", "n_envs", "policy", "env_kwargs")
+RUN_KEYS = ("n_timesteps", "max_minutes", "n_envs", "policy", "env_kwargs")
 
 
 def algorithm_class(algo: str) -> type:
@@ -108,6 +108,21 @@ def versions() -> dict[str, str]:
     }
 
 
+def wall_clock_limit(minutes: float) -> Any:
+    """An SB3 callback that stops training once ``minutes`` of wall-clock time have passed
+    (checked after every step; the model is then saved as usual)."""
+    from stable_baselines3.common.callbacks import BaseCallback
+
+    class StopAfter(BaseCallback):
+        def _on_training_start(self) -> None:
+            self.deadline = time.perf_counter() + 60.0 * minutes
+
+        def _on_step(self) -> bool:
+            return time.perf_counter() < self.deadline
+
+    return StopAfter()
+
+
 def train(
     algo: str,
     map_mode: str,
@@ -120,10 +135,13 @@ def train(
     progress_bar: bool = True,
     env_id: str = ENV_ID,
     hyperparams: Path | None = None,
+    max_minutes: float | None = None,
 ) -> Path:
     """Trains one agent and returns its run directory (``model.zip``, ``config.yml``, logs).
 
-    ``timesteps`` and ``n_envs`` override the recipe's ``n_timesteps`` and ``n_envs``.
+    ``timesteps`` and ``n_envs`` override the recipe's ``n_timesteps`` and ``n_envs``;
+    ``max_minutes`` (or the recipe's ``max_minutes``) stops training earlier on wall-clock
+    time, and ``config.yml`` records the timesteps done.
     ``torch_threads`` sets torch's intra-op threads (1 is fastest for these small networks
     on 2 cores, where the env batch uses the other core: ``benchmarks/train_threads.py``).
     """
@@ -135,6 +153,8 @@ def train(
         raise ValueError(f"timesteps must be >= 1, got {timesteps}")
     if torch_threads < 1:
         raise ValueError(f"torch_threads must be >= 1, got {torch_threads}")
+    if max_minutes is not None and not max_minutes > 0:
+        raise ValueError(f"max_minutes must be > 0, got {max_minutes}")
     import torch
     from stable_baselines3.common.logger import configure
     from stable_baselines3.common.utils import set_random_seed
@@ -144,6 +164,8 @@ def train(
         recipe["n_timesteps"] = int(timesteps)
     if n_envs is not None:
         recipe["n_envs"] = int(n_envs)
+    if max_minutes is not None:
+        recipe["max_minutes"] = float(max_minutes)
     run_dir = Path(out) / run_name(algo, map_mode, seed)
     run_dir.mkdir(parents=True, exist_ok=True)
     config = {
@@ -166,7 +188,12 @@ def train(
     model = algorithm_class(algo)(recipe["policy"], env, seed=seed, device="cpu", **algo_kwargs)
     model.set_logger(configure(str(run_dir), ["csv", "tensorboard"]))
     started = time.perf_counter()
-    model.learn(total_timesteps=recipe["n_timesteps"], progress_bar=progress_bar)
+    limit = recipe.get("max_minutes")
+    model.learn(
+        total_timesteps=recipe["n_timesteps"],
+        callback=None if limit is None else wall_clock_limit(limit),
+        progress_bar=progress_bar,
+    )
     config["wall_clock_seconds"] = round(time.perf_counter() - started, 1)
     config["timesteps_done"] = int(model.num_timesteps)
     model.save(run_dir / "model.zip")
@@ -182,6 +209,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--timesteps", type=int, help="override the recipe's n_timesteps")
     parser.add_argument("--n-envs", type=int, help="override the recipe's n_envs")
+    parser.add_argument("--max-minutes", type=float, help="stop after this much wall-clock")
     parser.add_argument("--torch-threads", type=int, default=1)
     parser.add_argument("--out", type=Path, default=Path("runs"))
     parser.add_argument("--hyperparams", type=Path, help="a recipe file instead of the default")
@@ -197,6 +225,7 @@ def main(argv: list[str] | None = None) -> None:
         torch_threads=args.torch_threads,
         progress_bar=not args.no_progress,
         hyperparams=args.hyperparams,
+        max_minutes=args.max_minutes,
     )
     print(f"trained {run_dir}")
 

@@ -158,3 +158,19 @@ def test_regenerated_results_keep_the_hand_written_findings(tmp_path: Path):
     text = path.read_text()
     assert "table v2" in text and "table v1" not in text
     assert text.startswith("# Results\n\nintro") and text.endswith("## Findings\n\nwhy\n")
+
+
+def test_a_wall_clock_limit_stops_training_early_and_is_recorded(tmp_path: Path):
+    run_dir = train(
+        "ppo",
+        "none",
+        out=tmp_path,
+        timesteps=10**6,
+        n_envs=2,
+        max_minutes=0.001,
+        progress_bar=False,
+    )
+    config = yaml.safe_load((run_dir / "config.yml").read_text())
+    assert (run_dir / "model.zip").is_file()
+    assert config["hyperparams"]["max_minutes"] == 0.001
+    assert 0 < config["timesteps_done"] < 10**6
