@@ -75,7 +75,8 @@ def wilson_interval(successes: int, n: int, z: float = Z_95) -> tuple[float, flo
     denominator = 1 + z * z / n
     centre = (p + z * z / (2 * n)) / denominator
     half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / denominator
-    return max(0.0, centre - half), min(1.0, centre + half)
+    # The interval always holds p (at p = 0 or 1 rounding could leave it a hair outside).
+    return max(0.0, min(p, centre - half)), min(1.0, max(p, centre + half))
 
 
 def held_out_seeds(episodes: int) -> list[int]:

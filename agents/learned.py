@@ -16,7 +16,9 @@ from agents.train import algorithm_class
 class LearnedAgent:
     """The model in ``run_dir`` (``model.zip`` beside the ``config.yml`` that trained it)."""
 
-    def __init__(self, run_dir: Path, name: str | None = None) -> None:
+    def __init__(
+        self, run_dir: Path, name: str | None = None, deterministic: bool = True, seed: int = 0
+    ) -> None:
         run_dir = Path(run_dir)
         model_path = run_dir / "model.zip"
         config_path = run_dir / "config.yml"
@@ -28,6 +30,13 @@ class LearnedAgent:
         self.name = name or f"{self.config['algo']} ({self.map_mode} map)"
         self.model = algorithm_class(self.config["algo"]).load(model_path, device="cpu")
         self._recurrent = self.config["algo"] == "recurrent_ppo"
+        # Stochastic actions sample the policy's Gaussian from torch's generator, seeded
+        # here, so an evaluation (same agents, same order) repeats exactly.
+        self.deterministic = deterministic
+        if not deterministic:
+            import torch
+
+            torch.manual_seed(seed)
         self._state: Any = None
         self._episode_start = np.ones((1,), dtype=bool)
 
@@ -41,9 +50,9 @@ class LearnedAgent:
                 observation,
                 state=self._state,
                 episode_start=self._episode_start,
-                deterministic=True,
+                deterministic=self.deterministic,
             )
             self._episode_start = np.zeros((1,), dtype=bool)
         else:
-            action, _ = self.model.predict(observation, deterministic=True)
+            action, _ = self.model.predict(observation, deterministic=self.deterministic)
         return np.asarray(action, dtype=np.float32).reshape(3)

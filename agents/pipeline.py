@@ -3,7 +3,7 @@ baselines on held-out layouts, write the results.
 
 Two budgets::
 
-    python -m agents.pipeline --budget demo     # make demo: ~10 min of training, results/
+    python -m agents.pipeline --budget demo     # make demo: ~6 min of training, results/
     python -m agents.pipeline --budget full     # make results: docs/RESULTS.md
 
 ``demo`` trains the GPIS-map and the no-map PPO agents briefly and evaluates on 50
@@ -41,7 +41,7 @@ class Budget:
 BUDGETS = {
     "demo": Budget(
         agents=(("ppo", "gpis"), ("ppo", "none")),
-        timesteps=150_000,
+        timesteps=250_000,
         episodes=50,
         runs=Path("runs/demo"),
         results=Path("results"),

@@ -174,3 +174,10 @@ def test_a_wall_clock_limit_stops_training_early_and_is_recorded(tmp_path: Path)
     assert (run_dir / "model.zip").is_file()
     assert config["hyperparams"]["max_minutes"] == 0.001
     assert 0 < config["timesteps_done"] < 10**6
+
+
+@pytest.mark.parametrize("n", [1, 2, 7, 50, 200, 1000])
+def test_the_wilson_interval_holds_the_rate_even_at_zero_and_one(n):
+    for successes in (0, n):
+        low, high = wilson_interval(successes, n)
+        assert 0.0 <= low <= successes / n <= high <= 1.0
