@@ -18,6 +18,7 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
+use super::metrics::footprint_mask_within;
 use crate::gpis::GridSpec;
 use crate::scene::JarState;
 
@@ -55,41 +56,30 @@ impl PartialOrd for Frontier {
 }
 
 impl ApproachField {
-    /// The field for `jars[target]`; other jars' footprints widened by `clearance` (m) are
-    /// expensive to cross. Cost O(G log G).
+    /// The field for `jars[target]` (cells within `clearance` of its footprint are the goal);
+    /// other jars' footprints widened by `clearance` (m) are expensive to cross. Cost
+    /// O(G log G).
     pub fn new(grid: &GridSpec, jars: &[JarState], target: usize, clearance: f64) -> Self {
         let (h, w) = grid.shape();
-        let footprint = |jar: &JarState, p: [f64; 2]| {
-            let yaw = super::metrics::yaw_of(jar.rotation);
-            jar.spec
-                .footprint_distance(p, jar.position[0], jar.position[1], yaw)
-        };
-        let mut step_factor = vec![1.0; h * w];
+        let (mut goal, mut blocked) = (Vec::new(), Vec::new());
+        let target_jar = jars.get(target..=target).unwrap_or(&[]);
+        footprint_mask_within(grid, target_jar, clearance, &mut goal);
+        let others: Vec<JarState> = (jars.iter().enumerate())
+            .filter(|&(k, _)| k != target)
+            .map(|(_, &jar)| jar)
+            .collect();
+        footprint_mask_within(grid, &others, clearance, &mut blocked);
+        let step_factor: Vec<f64> = (goal.iter().zip(&blocked))
+            .map(|(&g, &b)| if b && !g { THROUGH_JAR_COST } else { 1.0 })
+            .collect();
         let mut distance = vec![f64::INFINITY; h * w];
         let mut heap = BinaryHeap::new();
-        for i in 0..h {
-            for j in 0..w {
-                let cell = i * w + j;
-                let centre = grid.cell_centre(i, j);
-                if let Some(goal) = jars.get(target) {
-                    let d = footprint(goal, centre).max(0.0);
-                    if d <= clearance {
-                        distance[cell] = 0.0;
-                        heap.push(Frontier {
-                            distance: 0.0,
-                            cell,
-                        });
-                        continue;
-                    }
-                }
-                let blocked = jars
-                    .iter()
-                    .enumerate()
-                    .any(|(k, jar)| k != target && footprint(jar, centre) < clearance);
-                if blocked {
-                    step_factor[cell] = THROUGH_JAR_COST;
-                }
-            }
+        for cell in (0..h * w).filter(|&cell| goal[cell]) {
+            distance[cell] = 0.0;
+            heap.push(Frontier {
+                distance: 0.0,
+                cell,
+            });
         }
         let [[x0, x1], [y0, y1]] = grid.bounds();
         let (cell_w, cell_h) = ((x1 - x0) / w as f64, (y1 - y0) / h as f64);

@@ -13,6 +13,12 @@ pub fn yaw_of(rotation: [f64; 4]) -> f64 {
 /// Which cell centres lie inside a jar's footprint at its current pose. Each jar visits
 /// only the cells of its bounding square. Cost O(G + jars · cells per jar).
 pub fn footprint_mask(grid: &GridSpec, jars: &[JarState], out: &mut Vec<bool>) {
+    footprint_mask_within(grid, jars, 0.0, out);
+}
+
+/// Which cell centres lie closer than `margin` (m) to a jar's footprint (inside it when
+/// `margin` is 0), each jar visiting only its bounding square widened by `margin`.
+pub fn footprint_mask_within(grid: &GridSpec, jars: &[JarState], margin: f64, out: &mut Vec<bool>) {
     let (h, w) = grid.shape();
     out.clear();
     out.resize(h * w, false);
@@ -20,7 +26,7 @@ pub fn footprint_mask(grid: &GridSpec, jars: &[JarState], out: &mut Vec<bool>) {
     let (cell_w, cell_h) = ((x1 - x0) / w as f64, (y1 - y0) / h as f64);
     for jar in jars {
         let (x, y, yaw) = (jar.position[0], jar.position[1], yaw_of(jar.rotation));
-        let reach = jar.spec.shape.bounding_radius();
+        let reach = jar.spec.shape.bounding_radius() + margin;
         let columns = |lo: f64, hi: f64, size: f64, n: usize| {
             let first = ((lo / size).floor().max(0.0) as usize).min(n);
             let last = ((hi / size).ceil().max(0.0) as usize).min(n);
@@ -31,7 +37,7 @@ pub fn footprint_mask(grid: &GridSpec, jars: &[JarState], out: &mut Vec<bool>) {
                 if jar
                     .spec
                     .footprint_distance(grid.cell_centre(i, j), x, y, yaw)
-                    < 0.0
+                    < margin
                 {
                     out[i * w + j] = true;
                 }
