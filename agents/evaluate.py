@@ -28,13 +28,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import gymnasium as gym
 import numpy as np
 
 import tactile_search  # noqa: F401  (registers the environment)
 from agents.scripted import SCRIPTED_AGENTS
 from agents.scripted.rollout import run_episodes
-from agents.train import ENV_ID, TRAIN_LAYOUT_SEEDS
+from agents.train import TRAIN_LAYOUT_SEEDS
 
 EVAL_SEED_START = 1_000_000
 assert EVAL_SEED_START + 100_000 < TRAIN_LAYOUT_SEEDS[0]
@@ -229,18 +228,15 @@ def record_gif(
     ``stride`` steps plus the last (a frame takes ~0.2 s to draw)."""
     from tactile_search.render import save_gif
 
-    env = gym.make(ENV_ID, map=map_mode, render_mode="rgb_array")
-    observation, info = env.reset(seed=seed)
-    agent.reset(env.unwrapped, observation, info)
-    frames = [env.render()]
-    for step in range(1, max_steps + 1):
-        observation, _, terminated, truncated, _ = env.step(agent.act(observation))
-        done = terminated or truncated or step == max_steps
+    frames: list[np.ndarray] = []
+
+    def capture(env: Any, step: int, done: bool) -> None:
         if step % stride == 0 or done:
             frames.append(env.render())
-        if done:
-            break
-    env.close()
+
+    run_episodes(
+        agent, [seed], max_steps=max_steps, on_step=capture, map=map_mode, render_mode="rgb_array"
+    )
     save_gif(frames, path)
 
 

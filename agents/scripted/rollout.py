@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 from agents.scripted.base import Agent
@@ -9,12 +10,18 @@ from tactile_search import CupboardSearchEnv
 
 
 def run_episodes(
-    agent: Agent, seeds: list[int], max_steps: int | None = None, **env_kwargs: Any
+    agent: Agent,
+    seeds: list[int],
+    max_steps: int | None = None,
+    on_step: Callable[[CupboardSearchEnv, int, bool], None] | None = None,
+    **env_kwargs: Any,
 ) -> list[dict[str, Any]]:
     """One ``CupboardSearchEnv`` episode per seed with ``agent``; per-episode summaries.
 
     ``max_steps`` defaults to the env's ``max_steps`` (the registered time limit). Each dict:
     seed, success, steps, tips, jar_displacement, max_jar_displacement, iou (final), reward.
+    ``on_step(env, step, done)``, if given, is called after the reset (step 0) and after
+    every step (``done``: the episode's last), e.g. to render frames.
     """
     env = CupboardSearchEnv(**env_kwargs)
     limit = env.config.max_steps if max_steps is None else max_steps
@@ -22,10 +29,14 @@ def run_episodes(
     for seed in seeds:
         observation, info = env.reset(seed=seed)
         agent.reset(env, observation, info)
+        if on_step is not None:
+            on_step(env, 0, False)
         total = 0.0
-        for _ in range(limit):
+        for step in range(1, limit + 1):
             observation, reward, terminated, _, info = env.step(agent.act(observation))
             total += reward
+            if on_step is not None:
+                on_step(env, step, terminated or step == limit)
             if terminated:
                 break
         results.append(
