@@ -9,7 +9,7 @@ export VIRTUAL_ENV := $(abspath $(VENV))
 export PATH := $(abspath $(VENV))/bin:$(PATH)
 
 .DEFAULT_GOAL := help
-.PHONY: help demo results test build build-dev bench lint format clean paper
+.PHONY: help demo results test build build-dev bench lint format clean paper stubs
 
 help: ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  %-10s %s\n", $$1, $$2}'
@@ -47,7 +47,11 @@ bench: build-dev ## criterion benchmarks and the Python benchmark scripts (print
 	cargo bench -p env_core --bench scene
 	$(PY) benchmarks/gpis_append.py --out results/gpis_append.png
 
-lint: $(VENV)/.extra-dev ## cargo fmt --check, clippy -D warnings, ruff check and format --check
+stubs: $(VENV)/.extra-dev build ## regenerate the settings part of python/tactile_search/_core.pyi from the core
+	$(PY) scripts/generate_stub.py
+
+lint: $(VENV)/.extra-dev build ## cargo fmt --check, clippy -D warnings, ruff check and format --check, stub up to date
+	$(PY) scripts/generate_stub.py --check
 	cargo fmt --all -- --check
 	cargo clippy --workspace --all-targets -- -D warnings
 	cargo clippy --workspace --all-targets --features python -- -D warnings

@@ -4,15 +4,18 @@
 //!   gradient observations, exact incremental posterior on a grid).
 //! - [`scene`]: the cupboard scene in rapier3d (jars with a hidden target, depth camera,
 //!   Exploratory Hand with a compliant finger, touch readings, disturbance).
+//! - [`settings`]: self-describing settings tables (key, doc, type, default, range) that
+//!   the scene and episode configs declare once and everything else reads.
 //! - [`episode`]: mechanical-search episodes (map from depth and touch, reward, episode end)
 //!   and a batch of them stepped in parallel.
 //!
-//! The pyo3 bindings live in the `python` module behind the `python` cargo feature, so that
+//! The pyo3 bindings live in the `bindings` module behind the `python` cargo feature, so that
 //! `cargo test` builds and runs without a Python interpreter.
 
 pub mod episode;
 pub mod gpis;
 pub mod scene;
+pub mod settings;
 
 #[cfg(feature = "python")]
-mod python;
+mod bindings;

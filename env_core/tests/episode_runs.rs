@@ -4,6 +4,7 @@ use env_core::episode::{
     oracle_action, Episode, EpisodeBatch, EpisodeConfig, EpisodeError, MapMode, StepInfo,
     PROPRIO_LEN,
 };
+use env_core::settings::SettingError;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -198,22 +199,28 @@ fn bad_actions_and_configs_are_refused() {
     bad.map.grid_shape = (40, 60);
     assert!(matches!(
         Episode::new(bad, 0),
-        Err(EpisodeError::GridShape { .. })
+        Err(EpisodeError::Setting(SettingError::OutOfRange {
+            key: "grid_shape",
+            ..
+        }))
     ));
     let mut small = config(MapMode::Gpis);
     small.map.grid_shape = (20, 40);
     assert!(matches!(
         Episode::new(small, 0),
-        Err(EpisodeError::GridShape { .. })
+        Err(EpisodeError::Setting(SettingError::OutOfRange {
+            key: "grid_shape",
+            ..
+        }))
     ));
     let mut negative = config(MapMode::Gpis);
     negative.reward.step_cost = -1.0;
     assert!(matches!(
         Episode::new(negative, 0),
-        Err(EpisodeError::OutOfRange {
-            what: "reward_step_cost",
+        Err(EpisodeError::Setting(SettingError::OutOfRange {
+            key: "reward_step_cost",
             ..
-        })
+        }))
     ));
     let mut map = vec![0u8; 3];
     assert!(matches!(

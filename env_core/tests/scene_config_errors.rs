@@ -4,6 +4,7 @@
 use env_core::scene::{
     JarShape, JarSpec, Layout, Scene, SceneConfig, SceneError, TargetShape, Visibility,
 };
+use env_core::settings::{Choice, SettingError, SettingValue, Settings};
 
 fn error_of(config: SceneConfig) -> SceneError {
     match Scene::new(config, 0) {
@@ -13,24 +14,30 @@ fn error_of(config: SceneConfig) -> SceneError {
 }
 
 #[test]
-fn bad_configs_are_refused_with_their_name_in_the_message() {
+fn bad_configs_are_refused_with_the_users_key_in_the_message() {
     let mut c = SceneConfig::default();
     c.layout.jar_count = [5, 3];
-    assert!(error_of(c).to_string().contains("jar_count high"));
+    assert!(error_of(c)
+        .to_string()
+        .contains("jar_count must be a pair (low, high)"));
     let mut c = SceneConfig::default();
     c.layout.jar_count = [3, 8];
-    assert!(error_of(c).to_string().contains("[jar_count low, 7]"));
+    assert!(error_of(c)
+        .to_string()
+        .contains("jar_count must be in [1, 7]"));
     let mut c = SceneConfig::default();
     c.camera.noise_std = -1.0;
-    assert!(error_of(c).to_string().contains("noise_std"));
+    assert!(error_of(c)
+        .to_string()
+        .starts_with("depth_noise_std must be in [0, inf)"));
     let mut c = SceneConfig::default();
     c.hand.finger_stiffness = f64::NAN;
     assert!(matches!(
         error_of(c),
-        SceneError::NonFinite {
-            what: "finger_stiffness",
+        SceneError::Setting(SettingError::OutOfRange {
+            key: "finger_stiffness",
             ..
-        }
+        })
     ));
     let mut c = SceneConfig::default();
     c.camera.look_at = c.camera.position;
@@ -39,8 +46,10 @@ fn bad_configs_are_refused_with_their_name_in_the_message() {
         SceneError::DegenerateCameraPose { .. }
     ));
     let mut c = SceneConfig::default();
-    c.camera.intrinsics.width = 0;
-    assert!(error_of(c).to_string().contains("camera width"));
+    c.camera.image_width = 0;
+    assert!(error_of(c)
+        .to_string()
+        .starts_with("camera_width must be in [1, 4096]"));
     let mut c = SceneConfig::default();
     c.hand.start = [0.29, 0.1, 0.0];
     assert!(matches!(error_of(c), SceneError::HandStartBlocked { .. }));
@@ -48,11 +57,15 @@ fn bad_configs_are_refused_with_their_name_in_the_message() {
         slice_height: 0.2,
         ..Default::default()
     };
-    assert!(error_of(c).to_string().contains("slice_height"));
-    assert!(TargetShape::parse("triangle")
-        .unwrap_err()
+    assert!(error_of(c)
         .to_string()
-        .contains("'round'"));
+        .starts_with("slice_height must be below the shortest jar"));
+    assert_eq!(TargetShape::parse("triangle"), None);
+    let mut c = SceneConfig::default();
+    let error = c
+        .set_value("target_shape", &SettingValue::Text("triangle".into()))
+        .unwrap_err();
+    assert!(error.to_string().contains("'round'"), "{error}");
 }
 
 #[test]

@@ -54,7 +54,9 @@ fn camera_points_lie_on_true_surfaces_within_1_mm_before_noise() {
 #[test]
 fn depth_image_has_the_configured_shape_and_nan_exactly_where_nothing_was_hit() {
     let mut config = SceneConfig::default();
-    config.camera.intrinsics = env_core::scene::CameraIntrinsics::from_hfov(64, 48, 2.4);
+    config.camera.image_width = 64;
+    config.camera.image_height = 48;
+    config.camera.hfov = 2.4;
     let scene = Scene::new(config, 5).expect("scene builds");
     let image = &scene.first_look().image;
     assert_eq!((image.width, image.height), (64, 48));

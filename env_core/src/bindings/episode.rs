@@ -2,92 +2,15 @@
 //! The single environment uses a batch of one; the vector environment a batch of N.
 
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
-use pyo3::exceptions::{PyIndexError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use super::errors::{episode_error, wrong_shape};
-use super::scene::{config_from, float, int, seed_of, type_name, wrong_type};
+use super::convert::seed_of;
+use super::errors::{episode_error, episode_index_error, wrong_shape, wrong_type, wrong_value};
+use super::settings::{config_dict, config_from, describe};
 use crate::episode::{oracle_action, EpisodeBatch, EpisodeConfig, MapMode, StepInfo, PROPRIO_LEN};
-use crate::scene::{JarShape, SceneConfig};
-
-/// Every episode key `EpisodeBatch` takes besides the scene's.
-const EPISODE_KEYS: &[&str] = &[
-    "map_mode",
-    "grid_shape",
-    "prior_mean",
-    "circle_prior_diameter",
-    "map_depth_noise_std",
-    "max_prior_depth_points",
-    "free_space_offset",
-    "contact_noise_std",
-    "normal_noise_std",
-    "skip_below_variance",
-    "max_rows",
-    "mean_scale",
-    "std_scale",
-    "reward_success",
-    "reward_step_cost",
-    "reward_displacement",
-    "reward_tip",
-    "reward_approach",
-    "max_steps",
-    "tip_angle",
-];
-
-fn optional_float(key: &str, value: &Bound<'_, PyAny>) -> PyResult<Option<f64>> {
-    if value.is_none() {
-        Ok(None)
-    } else {
-        float(key, value).map(Some)
-    }
-}
-
-fn apply(config: &mut EpisodeConfig, key: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
-    let map = &mut config.map;
-    match key {
-        "map_mode" => {
-            let text: String = value
-                .extract()
-                .map_err(|_| wrong_type(key, "a str", value))?;
-            map.mode = MapMode::parse(&text).ok_or_else(|| {
-                PyValueError::new_err(format!(
-                    "map must be \"gpis\", \"occupancy\" or \"none\", got {text:?}"
-                ))
-            })?;
-        }
-        "grid_shape" => {
-            let (h, w): (Bound<'_, PyAny>, Bound<'_, PyAny>) = value
-                .extract()
-                .map_err(|_| wrong_type(key, "a pair of ints (H, W)", value))?;
-            map.grid_shape = (int(key, &h)?, int(key, &w)?);
-        }
-        "prior_mean" => map.prior_mean = float(key, value)?,
-        "circle_prior_diameter" => map.circle_prior_diameter = optional_float(key, value)?,
-        "map_depth_noise_std" => map.depth_noise_std = float(key, value)?,
-        "max_prior_depth_points" => map.max_prior_depth_points = int(key, value)?,
-        "free_space_offset" => map.free_space_offset = optional_float(key, value)?,
-        "contact_noise_std" => map.contact_noise_std = float(key, value)?,
-        "normal_noise_std" => map.normal_noise_std = float(key, value)?,
-        "skip_below_variance" => map.skip_below_variance = float(key, value)?,
-        "max_rows" => map.max_rows = int(key, value)?,
-        "mean_scale" => map.mean_scale = float(key, value)?,
-        "std_scale" => map.std_scale = float(key, value)?,
-        "reward_success" => config.reward.success = float(key, value)?,
-        "reward_step_cost" => config.reward.step_cost = float(key, value)?,
-        "reward_displacement" => config.reward.displacement = float(key, value)?,
-        "reward_tip" => config.reward.tip = float(key, value)?,
-        "reward_approach" => config.reward.approach = float(key, value)?,
-        "max_steps" => config.max_steps = int(key, value)?,
-        "tip_angle" => config.tip_angle = float(key, value)?,
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "unknown episode key {key:?}; expected one of {EPISODE_KEYS:?}"
-            )))
-        }
-    }
-    Ok(())
-}
+use crate::scene::JarShape;
+use crate::settings::Choice;
 
 fn info_dict<'py>(py: Python<'py>, info: &StepInfo) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -152,57 +75,43 @@ impl PyEpisodeBatch {
         if index < self.inner.len() {
             Ok(index)
         } else {
-            Err(PyIndexError::new_err(format!(
-                "episode index must be in [0, {}), got {index}",
-                self.inner.len()
-            )))
+            Err(episode_index_error(index, self.inner.len()))
         }
     }
 }
 
 #[pymethods]
 impl PyEpisodeBatch {
-    /// Episodes seeded `seeds[i]`; `scene_config` is a flat dict of scene keys (see
-    /// `Scene.config_keys()`), the keyword arguments are episode keys.
+    /// Episodes seeded `seeds[i]`, with the default settings updated by `config` (a dict)
+    /// and keyword arguments: every key of `EpisodeBatch.settings()` (the episode's, the
+    /// map's, the reward's and the scene's).
     #[new]
-    #[pyo3(signature = (seeds, threads = None, scene_config = None, **episode))]
+    #[pyo3(signature = (seeds, threads = None, config = None, **settings))]
     fn new(
         py: Python<'_>,
         seeds: &Bound<'_, PyAny>,
-        threads: Option<usize>,
-        scene_config: Option<&Bound<'_, PyAny>>,
-        episode: Option<&Bound<'_, PyDict>>,
+        threads: Option<&Bound<'_, PyAny>>,
+        config: Option<&Bound<'_, PyAny>>,
+        settings: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         let seeds: Vec<u64> = seeds
             .try_iter()
-            .map_err(|_| {
-                PyTypeError::new_err(format!(
-                    "seeds must be a list of ints, got {}",
-                    type_name(seeds)
-                ))
-            })?
+            .map_err(|_| wrong_type("seeds", "a sequence of ints", seeds))?
             .map(|s| seed_of(&s?))
             .collect::<PyResult<_>>()?;
         if seeds.is_empty() {
-            return Err(PyValueError::new_err(
-                "seeds must hold at least one seed, got none",
-            ));
+            return Err(wrong_value("seeds", "at least one seed", "none"));
         }
-        let scene = match scene_config {
-            Some(c) if !c.is_none() => config_from(Some(c), None)?,
-            _ => SceneConfig::default(),
+        let threads = match threads.filter(|t| !t.is_none()) {
+            None => None,
+            Some(t) => Some(
+                t.extract::<usize>()
+                    .ok()
+                    .filter(|&n| n >= 1)
+                    .ok_or_else(|| wrong_value("threads", "a positive int or None", t))?,
+            ),
         };
-        let mut config = EpisodeConfig {
-            scene,
-            ..EpisodeConfig::default()
-        };
-        if let Some(episode) = episode {
-            for (key, value) in episode.iter() {
-                let key: String = key.extract()?;
-                apply(&mut config, &key, &value)?;
-            }
-        }
-        config.validate().map_err(|e| episode_error(0, e))?;
+        let config: EpisodeConfig = config_from(config, settings)?;
         let built = config.clone();
         let inner = py
             .detach(|| EpisodeBatch::new(built, &seeds, threads))
@@ -222,33 +131,29 @@ impl PyEpisodeBatch {
         Ok(batch)
     }
 
-    /// Every episode key and its default, as a dict.
+    /// The episode's settings table (the scene's included): one dict per setting with key,
+    /// type, default, range, choices and doc.
     #[staticmethod]
-    fn episode_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
-        let c = EpisodeConfig::default();
-        let m = &c.map;
-        let d = PyDict::new(py);
-        d.set_item("map_mode", m.mode.name())?;
-        d.set_item("grid_shape", m.grid_shape)?;
-        d.set_item("prior_mean", m.prior_mean)?;
-        d.set_item("circle_prior_diameter", m.circle_prior_diameter)?;
-        d.set_item("map_depth_noise_std", m.depth_noise_std)?;
-        d.set_item("max_prior_depth_points", m.max_prior_depth_points)?;
-        d.set_item("free_space_offset", m.free_space_offset)?;
-        d.set_item("contact_noise_std", m.contact_noise_std)?;
-        d.set_item("normal_noise_std", m.normal_noise_std)?;
-        d.set_item("skip_below_variance", m.skip_below_variance)?;
-        d.set_item("max_rows", m.max_rows)?;
-        d.set_item("mean_scale", m.mean_scale)?;
-        d.set_item("std_scale", m.std_scale)?;
-        d.set_item("reward_success", c.reward.success)?;
-        d.set_item("reward_step_cost", c.reward.step_cost)?;
-        d.set_item("reward_displacement", c.reward.displacement)?;
-        d.set_item("reward_tip", c.reward.tip)?;
-        d.set_item("reward_approach", c.reward.approach)?;
-        d.set_item("max_steps", c.max_steps)?;
-        d.set_item("tip_angle", c.tip_angle)?;
-        Ok(d)
+    fn settings(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
+        describe::<EpisodeConfig>(py)
+    }
+
+    /// Checks settings given as keyword arguments (TypeError / ValueError naming the key)
+    /// and returns every setting by key: the defaults with the given ones over them.
+    #[staticmethod]
+    #[pyo3(signature = (**settings))]
+    fn resolve_settings<'py>(
+        py: Python<'py>,
+        settings: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let config: EpisodeConfig = config_from(None, settings)?;
+        config_dict(py, &config)
+    }
+
+    /// Every setting of this batch by key.
+    #[getter]
+    fn config<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        config_dict(py, &self.config)
     }
 
     /// Resets episode `index` to `seed`; returns its (map or None, proprio) observation.

@@ -1,11 +1,26 @@
-//! Every conversion of a core error to a Python exception, in one place.
+//! Every Python exception the bindings raise is built here. A setting of the wrong type is a
+//! `TypeError`; every other core error (a setting out of range, a bad layout, a non-finite
+//! action) is a `ValueError`; each message says what was expected and what came.
 
-use pyo3::exceptions::PyValueError;
-use pyo3::PyErr;
+use pyo3::exceptions::{PyIndexError, PyTypeError, PyValueError};
+use pyo3::prelude::*;
 
+use super::convert::type_name;
 use crate::episode::EpisodeError;
 use crate::gpis::GpisError;
 use crate::scene::SceneError;
+use crate::settings::SettingError;
+
+impl From<SettingError> for PyErr {
+    fn from(error: SettingError) -> Self {
+        match error {
+            SettingError::WrongType { .. } => PyTypeError::new_err(error.to_string()),
+            SettingError::UnknownKey { .. } | SettingError::OutOfRange { .. } => {
+                PyValueError::new_err(error.to_string())
+            }
+        }
+    }
+}
 
 impl From<GpisError> for PyErr {
     fn from(error: GpisError) -> Self {
@@ -17,16 +32,24 @@ impl From<GpisError> for PyErr {
 
 impl From<SceneError> for PyErr {
     fn from(error: SceneError) -> Self {
-        // Every scene error is a bad value (config entry, layout, command), and its message
-        // says what was expected and what came.
-        PyValueError::new_err(error.to_string())
+        match error {
+            SceneError::Setting(setting) => setting.into(),
+            // A bad layout, camera pose or command: a bad value, and the message says
+            // what was expected and what came.
+            other => PyValueError::new_err(other.to_string()),
+        }
     }
 }
 
-/// A `ValueError` naming the episode of a batch that failed: bad configuration, a
-/// non-finite action or a step after the end are all bad values.
+/// The error of episode `index` of a batch: a bad setting as itself (it concerns every
+/// episode), anything else (a non-finite action, a step after the end) naming the episode.
 pub(crate) fn episode_error(index: usize, error: EpisodeError) -> PyErr {
-    PyValueError::new_err(format!("episode {index}: {error}"))
+    match error {
+        EpisodeError::Setting(setting) | EpisodeError::Scene(SceneError::Setting(setting)) => {
+            setting.into()
+        }
+        other => PyValueError::new_err(format!("episode {index}: {other}")),
+    }
 }
 
 /// A `ValueError` for an array whose shape is not the one expected.
@@ -34,4 +57,25 @@ pub(crate) fn wrong_shape(what: &str, expected: &str, got: &[usize]) -> PyErr {
     PyValueError::new_err(format!(
         "{what} must have shape {expected}, got shape {got:?}"
     ))
+}
+
+/// A `TypeError` for an argument of the wrong type.
+pub(crate) fn wrong_type(what: &str, expected: &str, value: &Bound<'_, PyAny>) -> PyErr {
+    PyTypeError::new_err(format!(
+        "{what} must be {expected}, got {} {}",
+        type_name(value),
+        value
+            .repr()
+            .map_or_else(|_| "?".to_owned(), |r| r.to_string())
+    ))
+}
+
+/// A `ValueError` for an argument of the right type and a wrong value.
+pub(crate) fn wrong_value(what: &str, expected: &str, got: impl std::fmt::Display) -> PyErr {
+    PyValueError::new_err(format!("{what} must be {expected}, got {got}"))
+}
+
+/// An `IndexError` for an episode index outside the batch.
+pub(crate) fn episode_index_error(index: usize, len: usize) -> PyErr {
+    PyIndexError::new_err(format!("episode index must be in [0, {len}), got {index}"))
 }

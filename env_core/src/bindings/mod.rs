@@ -1,10 +1,18 @@
-//! pyo3 bindings: the compiled module `tactile_search._core`. Thin: convert, release the
-//! GIL, call the pure-Rust core, convert back. Errors are mapped in [`errors`].
+//! pyo3 bindings: the compiled module `tactile_search._core`, the seam between the pure-Rust
+//! core and Python. Thin: convert, release the GIL, call the core, convert back.
+//!
+//! - [`convert`]: type names, seeds, numpy arrays out of the core's data.
+//! - [`errors`]: every Python exception the bindings raise.
+//! - [`settings`]: the generic glue over the core's settings tables (no key is listed here).
+//! - one file per class: [`gpis`] (`GpisCore`), [`scene`] (`Scene`), [`episode`]
+//!   (`EpisodeBatch`).
 
+mod convert;
 mod episode;
 mod errors;
 mod gpis;
 mod scene;
+mod settings;
 
 use pyo3::prelude::*;
 

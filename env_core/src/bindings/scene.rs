@@ -3,415 +3,14 @@
 //! the depth image, clouds, slice, contacts, jars and target as numpy arrays and dicts.
 
 use numpy::{PyArray1, PyArrayMethods};
-use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::scene::{
-    CameraIntrinsics, Contact, DepthCapture, HandCommand, JarShape, Scene, SceneConfig, StepReport,
-    TargetShape,
-};
-
-/// Every key the config accepts, as listed in error messages.
-const KEYS: &[&str] = &[
-    "slice_height",
-    "cupboard_width",
-    "cupboard_depth",
-    "cupboard_height",
-    "wall_thickness",
-    "wall_friction",
-    "jar_count",
-    "round_fraction",
-    "target_shape",
-    "round_diameter",
-    "square_side",
-    "jar_height",
-    "jar_mass",
-    "jar_friction",
-    "max_visible_fraction",
-    "target_min_depth",
-    "min_gap",
-    "wall_gap",
-    "corridor_width",
-    "corridor_clearance",
-    "max_attempts",
-    "camera_width",
-    "camera_height",
-    "camera_hfov",
-    "camera_fx",
-    "camera_fy",
-    "camera_cx",
-    "camera_cy",
-    "camera_position",
-    "camera_look_at",
-    "camera_max_range",
-    "slice_band",
-    "depth_noise_std",
-    "max_slice_points",
-    "hand_start",
-    "max_step_translation",
-    "max_step_yaw",
-    "workspace",
-    "wrist_half_extent",
-    "arm_length",
-    "arm_half_width",
-    "finger_length",
-    "finger_half_thickness",
-    "finger_half_height",
-    "finger_mass",
-    "finger_friction",
-    "finger_stiffness",
-    "finger_damping",
-    "finger_limit",
-    "rigid_finger",
-    "wall_margin",
-    "touch_max_distance",
-    "touch_merge_distance",
-    "touch_point_noise_std",
-    "touch_normal_noise_std",
-    "dt",
-    "substeps",
-    "solver_iterations",
-];
-
-pub(super) fn type_name(value: &Bound<'_, PyAny>) -> String {
-    value
-        .get_type()
-        .name()
-        .map_or_else(|_| "?".to_owned(), |n| n.to_string())
-}
-
-pub(super) fn wrong_type(key: &str, expected: &str, value: &Bound<'_, PyAny>) -> PyErr {
-    PyTypeError::new_err(format!(
-        "config[{key:?}] must be {expected}, got {} {}",
-        type_name(value),
-        value
-            .repr()
-            .map_or_else(|_| "?".to_owned(), |r| r.to_string())
-    ))
-}
-
-pub(super) fn float(key: &str, value: &Bound<'_, PyAny>) -> PyResult<f64> {
-    if value.is_instance_of::<pyo3::types::PyBool>() {
-        return Err(wrong_type(key, "a float", value));
-    }
-    value
-        .extract::<f64>()
-        .map_err(|_| wrong_type(key, "a float", value))
-}
-
-pub(super) fn int(key: &str, value: &Bound<'_, PyAny>) -> PyResult<usize> {
-    if value.is_instance_of::<pyo3::types::PyBool>()
-        || !value.is_instance_of::<pyo3::types::PyInt>()
-    {
-        return Err(wrong_type(key, "a non-negative int", value));
-    }
-    value.extract::<usize>().map_err(|_| {
-        PyValueError::new_err(format!(
-            "config[{key:?}] must be a non-negative int, got {value}"
-        ))
-    })
-}
-
-fn floats<const N: usize>(key: &str, value: &Bound<'_, PyAny>) -> PyResult<[f64; N]> {
-    let expected = format!("a sequence of {N} floats");
-    if value.is_instance_of::<pyo3::types::PyString>() {
-        return Err(wrong_type(key, &expected, value));
-    }
-    let items: Vec<Bound<'_, PyAny>> = value
-        .try_iter()
-        .map_err(|_| wrong_type(key, &expected, value))?
-        .collect::<PyResult<_>>()?;
-    if items.len() != N {
-        return Err(PyValueError::new_err(format!(
-            "config[{key:?}] must have {N} entries, got {}",
-            items.len()
-        )));
-    }
-    let mut out = [0.0; N];
-    for (slot, item) in out.iter_mut().zip(&items) {
-        *slot = float(key, item)?;
-    }
-    Ok(out)
-}
-
-/// Applies one flat config entry.
-fn apply(config: &mut SceneConfig, key: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
-    let c = config;
-    match key {
-        "slice_height" => c.slice_height = float(key, value)?,
-        "cupboard_width" => c.cupboard.width = float(key, value)?,
-        "cupboard_depth" => c.cupboard.depth = float(key, value)?,
-        "cupboard_height" => c.cupboard.height = float(key, value)?,
-        "wall_thickness" => c.cupboard.wall_thickness = float(key, value)?,
-        "wall_friction" => c.cupboard.friction = float(key, value)?,
-        "jar_count" => {
-            c.layout.jar_count = if value.is_instance_of::<pyo3::types::PyInt>() {
-                let n = int(key, value)?;
-                [n, n]
-            } else {
-                let [lo, hi] = floats::<2>(key, value)?;
-                let whole = |v: f64| v >= 0.0 && v.fract() == 0.0 && v <= 1e6;
-                if !(whole(lo) && whole(hi)) {
-                    return Err(PyValueError::new_err(format!(
-                        "config[\"jar_count\"] must be an int or two ints (low, high), got {lo}, {hi}"
-                    )));
-                }
-                [lo as usize, hi as usize]
-            }
-        }
-        "round_fraction" => c.layout.round_fraction = float(key, value)?,
-        "target_shape" => {
-            let text: String = value
-                .extract()
-                .map_err(|_| wrong_type(key, "'round', 'square' or 'any'", value))?;
-            c.layout.target_shape = TargetShape::parse(&text)?;
-        }
-        "round_diameter" => c.layout.round_diameter = floats(key, value)?,
-        "square_side" => c.layout.square_side = floats(key, value)?,
-        "jar_height" => c.layout.jar_height = floats(key, value)?,
-        "jar_mass" => c.layout.jar_mass = floats(key, value)?,
-        "jar_friction" => c.layout.jar_friction = float(key, value)?,
-        "max_visible_fraction" => c.layout.max_visible_fraction = float(key, value)?,
-        "target_min_depth" => c.layout.target_min_depth = float(key, value)?,
-        "min_gap" => c.layout.min_gap = float(key, value)?,
-        "wall_gap" => c.layout.wall_gap = float(key, value)?,
-        "corridor_width" => c.layout.corridor_width = float(key, value)?,
-        "corridor_clearance" => c.layout.corridor_clearance = float(key, value)?,
-        "max_attempts" => c.layout.max_attempts = int(key, value)?,
-        // Intrinsics keys are applied in `config_from` in a fixed order.
-        "camera_width" | "camera_height" | "camera_hfov" | "camera_fx" | "camera_fy"
-        | "camera_cx" | "camera_cy" => {}
-        "camera_position" => c.camera.position = floats(key, value)?,
-        "camera_look_at" => c.camera.look_at = floats(key, value)?,
-        "camera_max_range" => c.camera.max_range = float(key, value)?,
-        "slice_band" => c.camera.slice_band = float(key, value)?,
-        "depth_noise_std" => c.camera.noise_std = float(key, value)?,
-        "max_slice_points" => c.camera.max_slice_points = int(key, value)?,
-        "hand_start" => c.hand.start = floats(key, value)?,
-        "max_step_translation" => c.hand.max_step_translation = float(key, value)?,
-        "max_step_yaw" => c.hand.max_step_yaw = float(key, value)?,
-        "workspace" => {
-            let [x0, x1, y0, y1] = floats::<4>(key, value)?;
-            c.hand.workspace = [[x0, x1], [y0, y1]];
-        }
-        "wrist_half_extent" => c.hand.wrist_half_extent = float(key, value)?,
-        "arm_length" => c.hand.arm_length = float(key, value)?,
-        "arm_half_width" => c.hand.arm_half_width = float(key, value)?,
-        "finger_length" => c.hand.finger_length = float(key, value)?,
-        "finger_half_thickness" => c.hand.finger_half_thickness = float(key, value)?,
-        "finger_half_height" => c.hand.finger_half_height = float(key, value)?,
-        "finger_mass" => c.hand.finger_mass = float(key, value)?,
-        "finger_friction" => c.hand.finger_friction = float(key, value)?,
-        "finger_stiffness" => c.hand.finger_stiffness = float(key, value)?,
-        "finger_damping" => c.hand.finger_damping = float(key, value)?,
-        "finger_limit" => c.hand.finger_limit = float(key, value)?,
-        "rigid_finger" => {
-            c.hand.rigid_finger = if value.is_instance_of::<pyo3::types::PyBool>() {
-                value.extract::<bool>()?
-            } else {
-                return Err(wrong_type(key, "a bool", value));
-            }
-        }
-        "wall_margin" => c.hand.wall_margin = float(key, value)?,
-        "touch_max_distance" => c.touch.max_distance = float(key, value)?,
-        "touch_merge_distance" => c.touch.merge_distance = float(key, value)?,
-        "touch_point_noise_std" => c.touch.point_noise_std = float(key, value)?,
-        "touch_normal_noise_std" => c.touch.normal_noise_std = float(key, value)?,
-        "dt" => c.physics.dt = float(key, value)?,
-        "substeps" => c.physics.substeps = int(key, value)?,
-        "solver_iterations" => c.physics.solver_iterations = int(key, value)?,
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "unknown config key {key:?}; expected one of: {}",
-                KEYS.join(", ")
-            )))
-        }
-    }
-    Ok(())
-}
-
-/// Every key of [`KEYS`] with its value in `c` (the inverse of [`config_from`]).
-fn config_dict<'py>(py: Python<'py>, c: &SceneConfig) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    let (l, k, h) = (&c.layout, &c.camera.intrinsics, &c.hand);
-    let [[x0, x1], [y0, y1]] = h.workspace;
-    d.set_item("slice_height", c.slice_height)?;
-    d.set_item("cupboard_width", c.cupboard.width)?;
-    d.set_item("cupboard_depth", c.cupboard.depth)?;
-    d.set_item("cupboard_height", c.cupboard.height)?;
-    d.set_item("wall_thickness", c.cupboard.wall_thickness)?;
-    d.set_item("wall_friction", c.cupboard.friction)?;
-    d.set_item("jar_count", l.jar_count.to_vec())?;
-    d.set_item("round_fraction", l.round_fraction)?;
-    d.set_item("target_shape", l.target_shape.name())?;
-    d.set_item("round_diameter", l.round_diameter.to_vec())?;
-    d.set_item("square_side", l.square_side.to_vec())?;
-    d.set_item("jar_height", l.jar_height.to_vec())?;
-    d.set_item("jar_mass", l.jar_mass.to_vec())?;
-    d.set_item("jar_friction", l.jar_friction)?;
-    d.set_item("max_visible_fraction", l.max_visible_fraction)?;
-    d.set_item("target_min_depth", l.target_min_depth)?;
-    d.set_item("min_gap", l.min_gap)?;
-    d.set_item("wall_gap", l.wall_gap)?;
-    d.set_item("corridor_width", l.corridor_width)?;
-    d.set_item("corridor_clearance", l.corridor_clearance)?;
-    d.set_item("max_attempts", l.max_attempts)?;
-    d.set_item("camera_width", k.width)?;
-    d.set_item("camera_height", k.height)?;
-    d.set_item("camera_hfov", 2.0 * (0.5 * k.width as f64 / k.fx).atan())?;
-    d.set_item("camera_fx", k.fx)?;
-    d.set_item("camera_fy", k.fy)?;
-    d.set_item("camera_cx", k.cx)?;
-    d.set_item("camera_cy", k.cy)?;
-    d.set_item("camera_position", c.camera.position.to_vec())?;
-    d.set_item("camera_look_at", c.camera.look_at.to_vec())?;
-    d.set_item("camera_max_range", c.camera.max_range)?;
-    d.set_item("slice_band", c.camera.slice_band)?;
-    d.set_item("depth_noise_std", c.camera.noise_std)?;
-    d.set_item("max_slice_points", c.camera.max_slice_points)?;
-    d.set_item("hand_start", h.start.to_vec())?;
-    d.set_item("max_step_translation", h.max_step_translation)?;
-    d.set_item("max_step_yaw", h.max_step_yaw)?;
-    d.set_item("workspace", vec![x0, x1, y0, y1])?;
-    d.set_item("wrist_half_extent", h.wrist_half_extent)?;
-    d.set_item("arm_length", h.arm_length)?;
-    d.set_item("arm_half_width", h.arm_half_width)?;
-    d.set_item("finger_length", h.finger_length)?;
-    d.set_item("finger_half_thickness", h.finger_half_thickness)?;
-    d.set_item("finger_half_height", h.finger_half_height)?;
-    d.set_item("finger_mass", h.finger_mass)?;
-    d.set_item("finger_friction", h.finger_friction)?;
-    d.set_item("finger_stiffness", h.finger_stiffness)?;
-    d.set_item("finger_damping", h.finger_damping)?;
-    d.set_item("finger_limit", h.finger_limit)?;
-    d.set_item("rigid_finger", h.rigid_finger)?;
-    d.set_item("wall_margin", h.wall_margin)?;
-    d.set_item("touch_max_distance", c.touch.max_distance)?;
-    d.set_item("touch_merge_distance", c.touch.merge_distance)?;
-    d.set_item("touch_point_noise_std", c.touch.point_noise_std)?;
-    d.set_item("touch_normal_noise_std", c.touch.normal_noise_std)?;
-    d.set_item("dt", c.physics.dt)?;
-    d.set_item("substeps", c.physics.substeps)?;
-    d.set_item("solver_iterations", c.physics.solver_iterations)?;
-    Ok(d)
-}
-
-/// Builds a config from the defaults, a dict, then keyword arguments (a key given in both is
-/// an error).
-pub(super) fn config_from(
-    config: Option<&Bound<'_, PyAny>>,
-    kwargs: Option<&Bound<'_, PyDict>>,
-) -> PyResult<SceneConfig> {
-    let merged = PyDict::new(
-        config
-            .map(|c| c.py())
-            .or_else(|| kwargs.map(|k| k.py()))
-            .ok_or_else(|| PyValueError::new_err("no Python context"))?,
-    );
-    if let Some(config) = config.filter(|c| !c.is_none()) {
-        let dict = config.cast::<PyDict>().map_err(|_| {
-            PyTypeError::new_err(format!(
-                "config must be a dict or None, got {}",
-                type_name(config)
-            ))
-        })?;
-        merged.update(dict.as_mapping())?;
-    }
-    if let Some(kwargs) = kwargs {
-        for (key, value) in kwargs.iter() {
-            if merged.contains(&key)? {
-                return Err(PyValueError::new_err(format!(
-                    "config key {key} was given both in the config dict and as a keyword argument"
-                )));
-            }
-            merged.set_item(key, value)?;
-        }
-    }
-    let mut out = SceneConfig::default();
-    let mut intrinsics: [Option<Bound<'_, PyAny>>; 7] = std::array::from_fn(|_| None);
-    let names = [
-        "camera_width",
-        "camera_height",
-        "camera_hfov",
-        "camera_fx",
-        "camera_fy",
-        "camera_cx",
-        "camera_cy",
-    ];
-    for (key, value) in merged.iter() {
-        let key: String = key.extract().map_err(|_| {
-            PyTypeError::new_err(format!("config keys must be str, got {}", type_name(&key)))
-        })?;
-        apply(&mut out, &key, &value)?;
-        if let Some(i) = names.iter().position(|n| *n == key) {
-            intrinsics[i] = Some(value);
-        }
-    }
-    // Size and field of view first, then explicit focal lengths / principal point.
-    if intrinsics[..3].iter().any(Option::is_some) {
-        let k = out.camera.intrinsics;
-        let width = intrinsics[0]
-            .as_ref()
-            .map_or(Ok(k.width), |v| int(names[0], v))?;
-        let height = intrinsics[1]
-            .as_ref()
-            .map_or(Ok(k.height), |v| int(names[1], v))?;
-        let hfov = match &intrinsics[2] {
-            Some(v) => float(names[2], v)?,
-            None => 2.0 * (0.5 * k.width as f64 / k.fx).atan(),
-        };
-        if !(hfov.is_finite() && hfov > 0.0 && hfov < std::f64::consts::PI) {
-            return Err(PyValueError::new_err(format!(
-                "config[\"camera_hfov\"] must be in (0, pi) radians, got {hfov}"
-            )));
-        }
-        out.camera.intrinsics = CameraIntrinsics::from_hfov(width, height, hfov);
-    }
-    let k = &mut out.camera.intrinsics;
-    for (i, slot) in [&mut k.fx, &mut k.fy, &mut k.cx, &mut k.cy]
-        .into_iter()
-        .enumerate()
-    {
-        if let Some(v) = &intrinsics[3 + i] {
-            *slot = float(names[3 + i], v)?;
-        }
-    }
-    Ok(out)
-}
-
-/// A seed: an int in [0, 2**64).
-pub(super) fn seed_of(seed: &Bound<'_, PyAny>) -> PyResult<u64> {
-    if seed.is_instance_of::<pyo3::types::PyBool>() || !seed.is_instance_of::<pyo3::types::PyInt>()
-    {
-        return Err(PyTypeError::new_err(format!(
-            "seed must be an int, got {}",
-            type_name(seed)
-        )));
-    }
-    seed.extract::<u64>().map_err(|_| {
-        PyValueError::new_err(format!("seed must be an int in [0, 2**64), got {seed}"))
-    })
-}
-
-fn array2<'py>(
-    py: Python<'py>,
-    rows: usize,
-    cols: usize,
-    flat: Vec<f64>,
-) -> PyResult<Bound<'py, PyAny>> {
-    Ok(PyArray1::from_vec(py, flat)
-        .reshape([rows, cols])?
-        .into_any())
-}
-
-/// An (N, K) float64 array from N rows of K values.
-fn rows_array<'py, const K: usize>(
-    py: Python<'py>,
-    rows: &[[f64; K]],
-) -> PyResult<Bound<'py, PyAny>> {
-    array2(py, rows.len(), K, rows.iter().flatten().copied().collect())
-}
+use super::convert::{array2, rows_array, seed_of};
+use super::errors::wrong_value;
+use super::settings::{config_dict, config_from, describe};
+use crate::scene::{Contact, DepthCapture, HandCommand, JarShape, Scene, SceneConfig, StepReport};
+use crate::settings::Settings;
 
 fn capture_dict<'py>(py: Python<'py>, look: &DepthCapture) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -473,16 +72,23 @@ impl PyScene {
         let seed = seed.map_or(Ok(0), seed_of)?;
         let config = match (config, kwargs) {
             (None, None) => SceneConfig::default(),
-            _ => config_from(config, kwargs)?,
+            _ => config_from::<SceneConfig>(config, kwargs)?,
         };
         let inner = py.detach(|| Scene::new(config, seed))?;
         Ok(Self { inner })
     }
 
-    /// Every accepted config key.
+    /// Every setting key, in the table's order.
     #[staticmethod]
     fn config_keys() -> Vec<&'static str> {
-        KEYS.to_vec()
+        SceneConfig::keys()
+    }
+
+    /// The scene's settings table: one dict per setting with key, type, default, range,
+    /// choices and doc.
+    #[staticmethod]
+    fn settings(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
+        describe::<SceneConfig>(py)
     }
 
     /// Moves the wrist by (dx, dy, dyaw) (clipped to the step bounds, stopped at walls) over
@@ -502,9 +108,8 @@ impl PyScene {
 
     /// Runs `n` physics steps with the hand held still.
     fn idle(&mut self, py: Python<'_>, n: i64) -> PyResult<()> {
-        let n = usize::try_from(n).map_err(|_| {
-            PyValueError::new_err(format!("idle(n): n must be a non-negative int, got {n}"))
-        })?;
+        let n =
+            usize::try_from(n).map_err(|_| wrong_value("idle(n): n", "a non-negative int", n))?;
         let inner = &mut self.inner;
         py.detach(|| inner.idle(n));
         Ok(())

@@ -1,7 +1,11 @@
-//! Everything tunable about an episode: the scene, the map, the reward and the episode end.
+//! Every setting of an episode, declared once (design notes §4 and §8): the map, the reward
+//! and the episode end, with the scene's settings as a section. The settings table is what
+//! the environment's keyword arguments, its docs and the stub are made from.
 
 use super::error::EpisodeError;
 use crate::scene::SceneConfig;
+use crate::settings;
+use crate::settings::{Choice, Range, SettingError, Settings};
 
 /// Which map the agent sees.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -14,153 +18,116 @@ pub enum MapMode {
     None,
 }
 
-impl MapMode {
-    /// Parses `"gpis"`, `"occupancy"` or `"none"`.
-    pub fn parse(text: &str) -> Option<Self> {
-        match text {
-            "gpis" => Some(Self::Gpis),
-            "occupancy" => Some(Self::Occupancy),
-            "none" => Some(Self::None),
-            _ => None,
-        }
+impl Choice for MapMode {
+    const NAMES: &'static [&'static str] = &["gpis", "occupancy", "none"];
+    const ANNOTATION: &'static str = "Literal['gpis', 'occupancy', 'none']";
+    const EXPECTED: &'static str = "'gpis', 'occupancy' or 'none'";
+
+    fn from_index(index: usize) -> Self {
+        [Self::Gpis, Self::Occupancy, Self::None][index]
     }
 
-    /// The name [`Self::parse`] takes.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Gpis => "gpis",
-            Self::Occupancy => "occupancy",
-            Self::None => "none",
-        }
+    fn index(self) -> usize {
+        self as usize
     }
 }
 
-/// How the map is built from depth and touch, and how it is rendered as an image.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MapConfig {
-    /// Which map.
-    pub mode: MapMode,
-    /// (H, W) of the map grid over the cupboard's interior; cells must be square.
-    pub grid_shape: (usize, usize),
-    /// Constant prior mean of f, m (positive: unobserved space reads as free).
-    pub prior_mean: f64,
-    /// Diameter of the paper's circle prior placed behind each depth cluster, m; `None`
-    /// for no circle prior.
-    pub circle_prior_diameter: Option<f64>,
-    /// GPIS noise standard deviation of a depth point, m.
-    pub depth_noise_std: f64,
-    /// The depth slice is thinned (evenly) to at most this many points before it enters the
-    /// GPIS: the prior's cost grows as rows² · cells, and reset must stay fast.
-    pub max_prior_depth_points: usize,
-    /// Free-space evidence: a value observation f = +offset this far in front of each depth
-    /// point along its camera ray, m; `None` to use surface points only.
-    pub free_space_offset: Option<f64>,
-    /// GPIS noise standard deviation of a contact's position, m.
-    pub contact_noise_std: f64,
-    /// GPIS noise standard deviation of each contact-normal component.
-    pub normal_noise_std: f64,
-    /// A contact is skipped when the map's variance at its point is already below this, m².
-    pub skip_below_variance: f64,
-    /// Most GP rows per episode; contacts beyond it are dropped and counted.
-    pub max_rows: usize,
-    /// |mean| that saturates the mean channel, m.
-    pub mean_scale: f64,
-    /// Standard deviation that saturates the std channel, m.
-    pub std_scale: f64,
-}
-
-impl Default for MapConfig {
-    fn default() -> Self {
-        Self {
-            mode: MapMode::Gpis,
-            grid_shape: (40, 80),
-            prior_mean: 0.01,
-            circle_prior_diameter: None,
-            depth_noise_std: 0.003,
-            max_prior_depth_points: 96,
-            free_space_offset: Some(0.01),
-            contact_noise_std: 0.001,
-            normal_noise_std: 0.1,
-            skip_below_variance: 1e-5,
-            max_rows: 1500,
-            mean_scale: 0.05,
-            std_scale: 0.1,
-        }
+settings! {
+    /// How the map is built from depth and touch, and how it is rendered as an image.
+    pub struct MapConfig {
+        /// Which map the agent sees: the GPIS mean and std, a plain occupancy grid, or none.
+        mode: MapMode = MapMode::Gpis => "map" in Range::FINITE,
+        /// (H, W) of the map grid over the cupboard's interior; square cells, H >= 36.
+        grid_shape: (usize, usize) = (40, 80) => "grid_shape" in Range::closed(36.0, 4096.0),
+        /// Constant prior mean of the GPIS, m (positive: unobserved space reads as free).
+        prior_mean: f64 = 0.01 => "prior_mean" in Range::FINITE,
+        /// Diameter of the paper's circle prior placed behind each depth cluster, m; None
+        /// for no circle prior.
+        circle_prior_diameter: Option<f64> = None => "circle_prior_diameter" in Range::POSITIVE,
+        /// GPIS noise standard deviation of a depth point, m.
+        depth_noise_std: f64 = 0.003 => "map_depth_noise_std" in Range::NON_NEGATIVE,
+        /// The depth slice is thinned (evenly) to at most this many points before it enters
+        /// the GPIS (the prior's cost grows as rows squared times cells).
+        max_prior_depth_points: usize = 96 => "max_prior_depth_points" in Range::AT_LEAST_ONE,
+        /// Free-space evidence: a value observation f = +offset this far in front of each
+        /// depth point along its camera ray, m; None for surface points only.
+        free_space_offset: Option<f64> = Some(0.01) => "free_space_offset" in Range::POSITIVE,
+        /// GPIS noise standard deviation of a contact's position, m.
+        contact_noise_std: f64 = 0.001 => "contact_noise_std" in Range::NON_NEGATIVE,
+        /// GPIS noise standard deviation of each contact-normal component.
+        normal_noise_std: f64 = 0.1 => "normal_noise_std" in Range::NON_NEGATIVE,
+        /// A contact is skipped when the map's variance at its point is already below
+        /// this, m^2.
+        skip_below_variance: f64 = 1e-5 => "skip_below_variance" in Range::NON_NEGATIVE,
+        /// Most GPIS rows per episode; contacts beyond it are dropped and counted.
+        max_rows: usize = 1500 => "max_rows" in Range::AT_LEAST_ONE,
+        /// |mean| that saturates the map's mean channel, m.
+        mean_scale: f64 = 0.05 => "mean_scale" in Range::POSITIVE,
+        /// Standard deviation that saturates the map's std channel, m.
+        std_scale: f64 = 0.1 => "std_scale" in Range::POSITIVE,
     }
+    sections {}
+    check_across = |_| Ok(());
 }
 
-/// Reward weights. Each term is reported on its own in the step info.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RewardConfig {
-    /// Paid once when the finger touches the target.
-    pub success: f64,
-    /// Paid (negated) every step.
-    pub step_cost: f64,
-    /// Per metre of added jar displacement (summed over jars), negated.
-    pub displacement: f64,
-    /// Paid (negated) when a jar tips over. A tip ends the episode, so it must cost more
-    /// than the step costs it saves (`max_steps · step_cost` = 2 at the defaults), or
-    /// knocking a jar over early is the cheapest way out of a hard layout.
-    pub tip: f64,
-    /// Potential-based shaping, per metre the fingertip's path distance to the target
-    /// shrinks (see [`super::approach`]); 0 (the default) leaves the task's reward alone.
-    pub approach: f64,
-}
-
-impl Default for RewardConfig {
-    fn default() -> Self {
-        Self {
-            success: 1.0,
-            step_cost: 0.01,
-            displacement: 10.0,
-            tip: 3.0,
-            approach: 0.0,
-        }
+settings! {
+    /// Reward weights. Each term is reported on its own in the step info.
+    pub struct RewardConfig {
+        /// Paid once when the finger touches the target.
+        success: f64 = 1.0 => "reward_success" in Range::NON_NEGATIVE,
+        /// Paid (negated) every step.
+        step_cost: f64 = 0.01 => "reward_step_cost" in Range::NON_NEGATIVE,
+        /// Per metre of added jar displacement (summed over jars), negated.
+        displacement: f64 = 10.0 => "reward_displacement" in Range::NON_NEGATIVE,
+        /// Paid (negated) when a jar tips over. A tip ends the episode, so it must cost more
+        /// than the step costs it saves (max_steps times reward_step_cost = 2 at the
+        /// defaults), or knocking a jar over early is the cheapest way out of a hard layout.
+        tip: f64 = 3.0 => "reward_tip" in Range::NON_NEGATIVE,
+        /// Potential-based shaping, per metre the fingertip's path distance to the target
+        /// shrinks; 0 leaves the task's reward alone.
+        approach: f64 = 0.0 => "reward_approach" in Range::NON_NEGATIVE,
     }
+    sections {}
+    check_across = |_| Ok(());
 }
 
-/// One episode's configuration.
-#[derive(Debug, Clone, PartialEq)]
-pub struct EpisodeConfig {
-    /// The physical scene.
-    pub scene: SceneConfig,
-    /// The map.
-    pub map: MapConfig,
-    /// The reward.
-    pub reward: RewardConfig,
-    /// Episode length used for the "time left" entry of the proprioception (the time limit
-    /// itself is the registered `max_episode_steps`).
-    pub max_steps: usize,
-    /// A jar whose axis leans more than this from vertical has tipped over, rad.
-    pub tip_angle: f64,
-}
-
-impl Default for EpisodeConfig {
-    fn default() -> Self {
-        Self {
-            scene: SceneConfig::default(),
-            map: MapConfig::default(),
-            reward: RewardConfig::default(),
-            max_steps: 200,
-            tip_angle: 0.5,
-        }
+settings! {
+    /// One episode's configuration: its own settings, then the map, the reward and the
+    /// scene.
+    pub struct EpisodeConfig {
+        /// Episode length: the time limit (truncation) and the scale of the time-left entry
+        /// of the proprioception.
+        max_steps: usize = 200 => "max_steps" in Range::AT_LEAST_ONE,
+        /// A jar whose axis leans more than this from vertical has tipped over, rad.
+        tip_angle: f64 = 0.5 => "tip_angle" in Range::left_open(0.0, 1.6),
     }
+    sections {
+        /// The map.
+        map: MapConfig,
+        /// The reward.
+        reward: RewardConfig,
+        /// The physical scene.
+        scene: SceneConfig,
+    }
+    check_across = check_grid;
 }
 
-fn in_range(
-    what: &'static str,
-    value: f64,
-    ok: bool,
-    expected: &'static str,
-) -> Result<(), EpisodeError> {
-    if value.is_finite() && ok {
+/// The grid's cells must be square over the cupboard's interior.
+fn check_grid(c: &EpisodeConfig) -> Result<(), SettingError> {
+    let (h, w) = c.map.grid_shape;
+    let (width, depth) = (c.scene.cupboard.width, c.scene.cupboard.depth);
+    let aspect = width / depth;
+    if (w as f64 / h as f64 - aspect).abs() < 1e-9 * aspect {
         Ok(())
     } else {
-        Err(EpisodeError::OutOfRange {
-            what,
-            expected,
-            value,
-        })
+        Err(SettingError::out_of_range(
+            "grid_shape",
+            format!(
+                "(H, W) with square cells over the {width} m x {depth} m interior \
+                 (W / H = {aspect})"
+            ),
+            format!("({h}, {w})"),
+        ))
     }
 }
 
@@ -171,55 +138,9 @@ impl EpisodeConfig {
         [[-half_width, half_width], [0.0, self.scene.cupboard.depth]]
     }
 
-    /// Checks every field (the scene's own checks included).
+    /// Checks every setting (the scene's included) against its range, then across
+    /// settings; the first bad one is reported by its key.
     pub fn validate(&self) -> Result<(), EpisodeError> {
-        self.scene.validate()?;
-        let map = &self.map;
-        let (h, w) = map.grid_shape;
-        let (width, depth) = (self.scene.cupboard.width, self.scene.cupboard.depth);
-        let aspect = width / depth;
-        let square = (w as f64 / h as f64 - aspect).abs() < 1e-9 * aspect;
-        if h < 36 || w < 36 || !square {
-            return Err(EpisodeError::GridShape {
-                height_cells: h,
-                width_cells: w,
-                width,
-                depth,
-                aspect,
-            });
-        }
-        let m = map.prior_mean;
-        in_range("prior_mean", m, true, "finite")?;
-        if let Some(d) = map.circle_prior_diameter {
-            in_range("circle_prior_diameter", d, d > 0.0, "> 0")?;
-        }
-        if let Some(d) = map.free_space_offset {
-            in_range("free_space_offset", d, d > 0.0, "> 0")?;
-        }
-        for (what, v) in [
-            ("depth_noise_std", map.depth_noise_std),
-            ("contact_noise_std", map.contact_noise_std),
-            ("normal_noise_std", map.normal_noise_std),
-            ("skip_below_variance", map.skip_below_variance),
-            ("reward_success", self.reward.success),
-            ("reward_step_cost", self.reward.step_cost),
-            ("reward_displacement", self.reward.displacement),
-            ("reward_tip", self.reward.tip),
-            ("reward_approach", self.reward.approach),
-        ] {
-            in_range(what, v, v >= 0.0, ">= 0")?;
-        }
-        for (what, v) in [("mean_scale", map.mean_scale), ("std_scale", map.std_scale)] {
-            in_range(what, v, v > 0.0, "> 0")?;
-        }
-        let points = map.max_prior_depth_points as f64;
-        in_range("max_prior_depth_points", points, points >= 1.0, ">= 1")?;
-        let rows = map.max_rows as f64;
-        in_range("max_rows", rows, map.max_rows >= 1, ">= 1")?;
-        let steps = self.max_steps as f64;
-        in_range("max_steps", steps, self.max_steps >= 1, ">= 1")?;
-        let tip = self.tip_angle;
-        in_range("tip_angle", tip, tip > 0.0 && tip < 1.6, "in (0, pi/2]")?;
-        Ok(())
+        Ok(self.check_settings()?)
     }
 }

@@ -4,6 +4,7 @@ use thiserror::Error;
 
 use crate::gpis::GpisError;
 use crate::scene::SceneError;
+use crate::settings::SettingError;
 
 /// Everything that can go wrong when configuring or stepping an [`crate::episode::Episode`].
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -14,34 +15,9 @@ pub enum EpisodeError {
     /// The GPIS map refused its configuration.
     #[error(transparent)]
     Gpis(#[from] GpisError),
-    /// An episode parameter lies outside its allowed range.
-    #[error("{what} must be {expected}, got {value}")]
-    OutOfRange {
-        /// Which parameter.
-        what: &'static str,
-        /// The allowed range, as text.
-        expected: &'static str,
-        /// Value given.
-        value: f64,
-    },
-    /// The map grid must have square cells over the cupboard's interior and at least 36
-    /// cells a side (the smallest image stable-baselines3's default CNN takes).
-    #[error(
-        "grid_shape must be (H, W) with H, W >= 36 and square cells over the {width} m x \
-         {depth} m interior (W / H = {aspect}), got ({height_cells}, {width_cells})"
-    )]
-    GridShape {
-        /// Cells along y.
-        height_cells: usize,
-        /// Cells along x.
-        width_cells: usize,
-        /// Interior width, m.
-        width: f64,
-        /// Interior depth, m.
-        depth: f64,
-        /// Required W / H.
-        aspect: f64,
-    },
+    /// A setting is of the wrong type or out of its range (the message names its key).
+    #[error(transparent)]
+    Setting(#[from] SettingError),
     /// An action component was NaN or infinite.
     #[error("action[{index}] must be finite, got {value}")]
     NonFiniteAction {

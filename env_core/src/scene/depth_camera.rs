@@ -8,6 +8,7 @@
 
 use rapier3d::prelude::*;
 
+use super::camera_intrinsics::CameraIntrinsics;
 use super::config::CameraConfig;
 use super::error::SceneError;
 use super::groups;
@@ -17,67 +18,6 @@ use super::ray_cast::{first_hit, Ray64};
 pub const LABEL_CUPBOARD: i32 = -1;
 /// Label of a pixel whose ray hit nothing within range.
 pub const LABEL_NONE: i32 = -2;
-
-/// Pinhole intrinsics in pixels.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CameraIntrinsics {
-    /// Image width (columns).
-    pub width: usize,
-    /// Image height (rows).
-    pub height: usize,
-    /// Focal length along x, px.
-    pub fx: f64,
-    /// Focal length along y, px.
-    pub fy: f64,
-    /// Principal point x, px.
-    pub cx: f64,
-    /// Principal point y, px.
-    pub cy: f64,
-}
-
-impl CameraIntrinsics {
-    /// Square pixels, principal point at the image centre, horizontal field of view `hfov`
-    /// (rad).
-    pub fn from_hfov(width: usize, height: usize, hfov: f64) -> Self {
-        let fx = 0.5 * width as f64 / (0.5 * hfov).tan();
-        Self {
-            width,
-            height,
-            fx,
-            fy: fx,
-            cx: 0.5 * width as f64,
-            cy: 0.5 * height as f64,
-        }
-    }
-
-    /// Checks sizes (1..=4096 px) and that focal lengths are finite and positive.
-    pub fn validate(&self) -> Result<(), SceneError> {
-        for (what, value) in [("camera width", self.width), ("camera height", self.height)] {
-            if !(1..=4096).contains(&value) {
-                return Err(SceneError::CountOutOfRange {
-                    what,
-                    expected: "[1, 4096]",
-                    value,
-                });
-            }
-        }
-        for (what, value) in [("camera fx", self.fx), ("camera fy", self.fy)] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(SceneError::OutOfRange {
-                    what,
-                    expected: "(0, inf)",
-                    value,
-                });
-            }
-        }
-        for (what, value) in [("camera cx", self.cx), ("camera cy", self.cy)] {
-            if !value.is_finite() {
-                return Err(SceneError::NonFinite { what, value });
-            }
-        }
-        Ok(())
-    }
-}
 
 /// A depth image and, per pixel, what its ray hit (ground truth, not an observation).
 #[derive(Debug, Clone, PartialEq)]
@@ -126,7 +66,6 @@ impl DepthCamera {
     /// The camera of a config: optical centre at `position`, optical axis towards `look_at`,
     /// image up along world +z. Fails if the axis is undefined or (anti)parallel to z.
     pub fn new(config: &CameraConfig) -> Result<Self, SceneError> {
-        config.intrinsics.validate()?;
         let degenerate = || SceneError::DegenerateCameraPose {
             position: config.position,
             look_at: config.look_at,
@@ -145,7 +84,7 @@ impl DepthCamera {
         let right = scale(right, 1.0 / right_norm);
         let down = cross(forward, right);
         Ok(Self {
-            intrinsics: config.intrinsics,
+            intrinsics: config.intrinsics(),
             position: config.position,
             axes: [right, down, forward],
             max_range: config.max_range,

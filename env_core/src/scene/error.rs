@@ -1,68 +1,21 @@
 //! Typed errors of the cupboard scene. Each says what was expected and what came; the Python
-//! bindings map them to `ValueError` in one place (`python/errors.rs`).
+//! bindings map them to `ValueError` in one place (`bindings/errors.rs`).
 
 use thiserror::Error;
+
+use crate::settings::SettingError;
 
 /// Everything that can go wrong when configuring, building or commanding a
 /// [`crate::scene::Scene`].
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum SceneError {
-    /// A scalar parameter was NaN or infinite.
-    #[error("{what} must be finite, got {value}")]
-    NonFinite {
-        /// Which parameter.
-        what: &'static str,
-        /// Value given.
-        value: f64,
-    },
-    /// A scalar parameter lies outside its allowed range.
-    #[error("{what} must lie in {expected}, got {value}")]
-    OutOfRange {
-        /// Which parameter.
-        what: &'static str,
-        /// The allowed range, as text (e.g. `"(0, 1]"`).
-        expected: &'static str,
-        /// Value given.
-        value: f64,
-    },
-    /// A `[low, high]` range parameter has `low > high` or a bad end.
-    #[error(
-        "{what} must be a range [low, high] with {expected} and low <= high, got [{low}, {high}]"
-    )]
-    InvalidRange {
-        /// Which parameter.
-        what: &'static str,
-        /// What each end must satisfy.
-        expected: &'static str,
-        /// Lower end given.
-        low: f64,
-        /// Upper end given.
-        high: f64,
-    },
-    /// A count parameter lies outside its allowed range.
-    #[error("{what} must lie in {expected}, got {value}")]
-    CountOutOfRange {
-        /// Which parameter.
-        what: &'static str,
-        /// The allowed range, as text.
-        expected: &'static str,
-        /// Value given.
-        value: usize,
-    },
-    /// A string option named no known choice.
-    #[error("{what} must be one of {expected}, got {value:?}")]
-    UnknownChoice {
-        /// Which option.
-        what: &'static str,
-        /// The allowed choices, as text.
-        expected: &'static str,
-        /// Value given.
-        value: String,
-    },
+    /// A setting is of the wrong type or out of its range (the message names its key).
+    #[error(transparent)]
+    Setting(#[from] SettingError),
     /// The camera's optical axis is undefined (eye equals target, or looks straight up/down).
     #[error(
-        "camera look_at must differ from the camera position and not lie straight above or \
-         below it, got position {position:?} and look_at {look_at:?}"
+        "camera_look_at must differ from camera_position and not lie straight above or \
+         below it, got camera_position {position:?} and camera_look_at {look_at:?}"
     )]
     DegenerateCameraPose {
         /// Camera position given.
@@ -94,7 +47,7 @@ pub enum SceneError {
     },
     /// The hand's start pose already intersects a cupboard wall or leaves the workspace.
     #[error(
-        "hand start pose (x={x}, y={y}, yaw={yaw}) must leave the wrist and arm clear of the \
+        "hand_start (x={x}, y={y}, yaw={yaw}) must leave the wrist and arm clear of the \
          cupboard walls and inside the workspace"
     )]
     HandStartBlocked {

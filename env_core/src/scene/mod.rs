@@ -6,7 +6,8 @@
 //! robot at y < 0), `z ∈ [0, H]`. The map plane is the horizontal slice at
 //! [`SceneConfig::slice_height`].
 //!
-//! - [`config`]: every tunable number, validated once.
+//! - [`config`]: every setting of the scene, declared once in its settings table.
+//! - [`camera_intrinsics`]: the pinhole intrinsics derived from the camera settings.
 //! - [`cupboard`], [`jar`]: the fixed walls and the dynamic jars.
 //! - [`layout`]: the seeded generator hiding the target and keeping a corridor to it.
 //! - [`visibility`]: the target's visible fraction, by ray casting.
@@ -16,6 +17,7 @@
 //! - [`disturbance`]: per-jar displacement and tilt since reset.
 //! - [`Scene`]: all of it in one rapier world, stepped by hand commands.
 
+pub mod camera_intrinsics;
 pub mod config;
 pub mod cupboard;
 pub mod depth_camera;
@@ -33,12 +35,13 @@ mod scene;
 pub mod touch;
 pub mod visibility;
 
+pub use camera_intrinsics::CameraIntrinsics;
 pub use config::{
     CameraConfig, CupboardConfig, HandConfig, LayoutConfig, PhysicsConfig, SceneConfig,
     TargetShape, TouchConfig,
 };
 pub use cupboard::{Cupboard, Wall, WallBox};
-pub use depth_camera::{CameraIntrinsics, DepthCamera, DepthImage, LABEL_CUPBOARD, LABEL_NONE};
+pub use depth_camera::{DepthCamera, DepthImage, LABEL_CUPBOARD, LABEL_NONE};
 pub use disturbance::Disturbance;
 pub use error::SceneError;
 pub use hand::{Blocker, HandPose};

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import inspect
 from typing import Any, ClassVar
 
 import gymnasium as gym
@@ -9,7 +10,11 @@ import numpy as np
 from gymnasium import spaces
 from gymnasium.utils import EzPickle
 
-from tactile_search.envs.config import CupboardSearchConfig
+from tactile_search.envs.config import (
+    CupboardSearchConfig,
+    arguments_table,
+    with_settings_signature,
+)
 
 
 def observation_space(config: CupboardSearchConfig, proprio_len: int) -> spaces.Dict:
@@ -120,19 +125,14 @@ class CupboardSearchEnv(gym.Env, EzPickle):
     - Truncation: the registered time limit, ``max_episode_steps = 200``.
 
     ## Arguments
-    ``gymnasium.make("tactile_search/CupboardSearch-v0", **kwargs)`` takes the fields of
-    ``CupboardSearchConfig``; the two names users rely on are ``map`` (``"gpis"``,
-    ``"occupancy"`` or ``"none"``) and ``grid_shape`` ``(H, W)`` (square cells over the 0.6 x
-    0.3 m interior, so W = 2 H, and H >= 36). Others: ``prior_mean``,
-    ``circle_prior_diameter``, ``map_depth_noise_std``, ``max_prior_depth_points``,
-    ``free_space_offset``,
-    ``contact_noise_std``, ``normal_noise_std``, ``skip_below_variance``, ``max_rows``,
-    ``mean_scale``, ``std_scale``, reward weights ``reward_success``, ``reward_step_cost``,
-    ``reward_displacement``, ``reward_tip``, ``reward_approach``, ``max_steps`` (for the
-    time-left entry; keep it equal to the time limit), ``tip_angle``, scene shortcuts ``jar_count``,
-    ``depth_noise_std`` (camera noise, m), ``finger_stiffness`` (N m/rad), and
-    ``scene_config`` for any other scene key (``tactile_search._core.Scene.config_keys()``).
-    A bad value raises ``ValueError`` naming the argument. ``render_mode="rgb_array"``.
+    ``render_mode``: ``None`` or ``"rgb_array"``. Then every setting of the core, by keyword
+    (``gymnasium.make("tactile_search/CupboardSearch-v0", map="occupancy", jar_count=5)``);
+    the table below is generated from the core's settings table, so it lists every one with
+    its default. A value of the wrong type raises ``TypeError``, one out of range
+    ``ValueError``, each naming the argument. ``map`` and ``grid_shape`` shape the
+    observation; ``max_steps`` is the time limit.
+
+    SETTINGS_TABLE
 
     ## Version History
     - v0: first release.
@@ -140,12 +140,12 @@ class CupboardSearchEnv(gym.Env, EzPickle):
 
     metadata: ClassVar[dict[str, Any]] = {"render_modes": ["rgb_array"], "render_fps": 10}
 
-    def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
-        EzPickle.__init__(self, render_mode=render_mode, **kwargs)
+    def __init__(self, render_mode: str | None = None, **settings: Any) -> None:
+        EzPickle.__init__(self, render_mode=render_mode, **settings)
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.render_mode = render_mode
-        self.config = CupboardSearchConfig(**kwargs)
+        self.config = CupboardSearchConfig(**settings)
         self._batch = self.config.make_batch([0], threads=1)
         self.observation_space = observation_space(self.config, self._batch.proprio_len)
         self.action_space = ACTION_SPACE
@@ -185,3 +185,20 @@ class CupboardSearchEnv(gym.Env, EzPickle):
         from tactile_search.render import render_frame
 
         return render_frame(self.render_state(), self.config.map)
+
+
+CupboardSearchEnv.__doc__ = (CupboardSearchEnv.__doc__ or "").replace(
+    "SETTINGS_TABLE", arguments_table().replace("\n", "\n    ")
+)
+with_settings_signature(
+    CupboardSearchEnv.__init__,
+    [
+        inspect.Parameter("self", inspect.Parameter.POSITIONAL_OR_KEYWORD),
+        inspect.Parameter(
+            "render_mode",
+            inspect.Parameter.POSITIONAL_OR_KEYWORD,
+            default=None,
+            annotation="str | None",
+        ),
+    ],
+)

@@ -1,0 +1,45 @@
+//! Conversion helpers shared by the classes: type names for messages, seeds, and numpy
+//! arrays out of the core's row-major data.
+
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyInt};
+
+use super::errors::{wrong_type, wrong_value};
+
+/// The Python type name of `value`, for messages.
+pub(crate) fn type_name(value: &Bound<'_, PyAny>) -> String {
+    value
+        .get_type()
+        .name()
+        .map_or_else(|_| "?".to_owned(), |n| n.to_string())
+}
+
+/// A seed: an int in [0, 2**64).
+pub(crate) fn seed_of(seed: &Bound<'_, PyAny>) -> PyResult<u64> {
+    if seed.is_instance_of::<PyBool>() || !seed.is_instance_of::<PyInt>() {
+        return Err(wrong_type("seed", "an int", seed));
+    }
+    seed.extract::<u64>()
+        .map_err(|_| wrong_value("seed", "an int in [0, 2**64)", seed))
+}
+
+/// An (rows, cols) float64 array owning `flat` (row-major).
+pub(crate) fn array2<'py>(
+    py: Python<'py>,
+    rows: usize,
+    cols: usize,
+    flat: Vec<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    Ok(PyArray1::from_vec(py, flat)
+        .reshape([rows, cols])?
+        .into_any())
+}
+
+/// An (N, K) float64 array from N rows of K values.
+pub(crate) fn rows_array<'py, const K: usize>(
+    py: Python<'py>,
+    rows: &[[f64; K]],
+) -> PyResult<Bound<'py, PyAny>> {
+    array2(py, rows.len(), K, rows.iter().flatten().copied().collect())
+}

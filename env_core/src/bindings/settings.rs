@@ -1,0 +1,149 @@
+//! The generic glue between Python and the core's settings tables: any config with a
+//! [`Settings`] table is built from a dict and/or keyword arguments, read back as a dict, and
+//! described (key, type, default, range, doc) for the Python side to build its config class,
+//! signatures, docs and stub from. No key is listed here.
+
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+
+use super::convert::type_name;
+use crate::settings::{SettingValue, Settings};
+
+/// The Python value as a [`SettingValue`]; `TypeError` for anything a setting never takes
+/// (a dict, an object).
+pub(super) fn to_setting_value(key: &str, value: &Bound<'_, PyAny>) -> PyResult<SettingValue> {
+    if value.is_none() {
+        Ok(SettingValue::Null)
+    } else if value.is_instance_of::<PyBool>() {
+        Ok(SettingValue::Bool(value.extract()?))
+    } else if value.is_instance_of::<PyInt>() {
+        value
+            .extract::<i64>()
+            .map(SettingValue::Int)
+            .map_err(|_| PyValueError::new_err(format!("{key} must fit in 64 bits, got {value}")))
+    } else if value.is_instance_of::<PyFloat>() {
+        Ok(SettingValue::Float(value.extract()?))
+    } else if value.is_instance_of::<PyString>() {
+        Ok(SettingValue::Text(value.extract()?))
+    } else if value.is_instance_of::<PyDict>() {
+        Err(not_a_setting_value(key, value))
+    } else if let Ok(items) = value.try_iter() {
+        let items = items
+            .map(|item| to_setting_value(key, &item?))
+            .collect::<PyResult<Vec<_>>>()?;
+        Ok(SettingValue::List(items))
+    } else if let Ok(number) = value.extract::<i64>() {
+        // numpy integers (through __index__).
+        Ok(SettingValue::Int(number))
+    } else if let Ok(number) = value.extract::<f64>() {
+        // numpy floats and other numbers (through __float__).
+        Ok(SettingValue::Float(number))
+    } else {
+        Err(not_a_setting_value(key, value))
+    }
+}
+
+fn not_a_setting_value(key: &str, value: &Bound<'_, PyAny>) -> PyErr {
+    PyTypeError::new_err(format!(
+        "{key} must be a bool, int, float, str, None or a sequence of these, got {} {}",
+        type_name(value),
+        value
+            .repr()
+            .map_or_else(|_| "?".to_owned(), |r| r.to_string())
+    ))
+}
+
+/// The [`SettingValue`] as a Python value (a list becomes a tuple).
+pub(super) fn to_python<'py>(py: Python<'py>, value: &SettingValue) -> PyResult<Bound<'py, PyAny>> {
+    Ok(match value {
+        SettingValue::Bool(v) => PyBool::new(py, *v).to_owned().into_any(),
+        SettingValue::Int(v) => v.into_pyobject(py)?.into_any(),
+        SettingValue::Float(v) => v.into_pyobject(py)?.into_any(),
+        SettingValue::Text(v) => v.into_pyobject(py)?.into_any(),
+        SettingValue::Null => py.None().into_bound(py),
+        SettingValue::List(items) => {
+            let items = items
+                .iter()
+                .map(|item| to_python(py, item))
+                .collect::<PyResult<Vec<_>>>()?;
+            PyTuple::new(py, items)?.into_any()
+        }
+    })
+}
+
+/// A config `C` from its defaults, then `config` (a dict or None), then keyword arguments;
+/// a key given in both is an error. Every value is type checked and the whole config
+/// range checked. Errors name the key as typed.
+pub(super) fn config_from<C: Settings>(
+    config: Option<&Bound<'_, PyAny>>,
+    kwargs: Option<&Bound<'_, PyDict>>,
+) -> PyResult<C> {
+    let mut pairs: Vec<(String, SettingValue)> = Vec::new();
+    if let Some(config) = config.filter(|c| !c.is_none()) {
+        let dict = config.cast::<PyDict>().map_err(|_| {
+            PyTypeError::new_err(format!(
+                "config must be a dict or None, got {}",
+                type_name(config)
+            ))
+        })?;
+        pairs.extend(entries(dict)?);
+    }
+    if let Some(kwargs) = kwargs {
+        for (key, value) in entries(kwargs)? {
+            if pairs.iter().any(|(k, _)| *k == key) {
+                return Err(PyValueError::new_err(format!(
+                    "setting {key:?} was given both in the config dict and as a keyword argument"
+                )));
+            }
+            pairs.push((key, value));
+        }
+    }
+    Ok(C::from_pairs(
+        pairs.iter().map(|(k, v)| (k.as_str(), v.clone())),
+    )?)
+}
+
+fn entries(dict: &Bound<'_, PyDict>) -> PyResult<Vec<(String, SettingValue)>> {
+    dict.iter()
+        .map(|(key, value)| {
+            let key: String = key.extract().map_err(|_| {
+                PyTypeError::new_err(format!("setting keys must be str, got {}", type_name(&key)))
+            })?;
+            let value = to_setting_value(&key, &value)?;
+            Ok((key, value))
+        })
+        .collect()
+}
+
+/// Every setting of `config` by key: a dict that [`config_from`] takes back.
+pub(super) fn config_dict<'py, C: Settings>(
+    py: Python<'py>,
+    config: &C,
+) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    for (key, value) in config.to_pairs() {
+        dict.set_item(key, to_python(py, &value)?)?;
+    }
+    Ok(dict)
+}
+
+/// The table of `C` for Python: one dict per setting with `key`, `type` (the annotation),
+/// `default`, `range` (interval notation; None for choices and bools), `choices` (tuple of
+/// str) and `doc`.
+pub(super) fn describe<'py, C: Settings>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+    let defaults = C::default();
+    let rows = PyList::empty(py);
+    for setting in C::table() {
+        let row = PyDict::new(py);
+        row.set_item("key", setting.key)?;
+        row.set_item("type", setting.annotation)?;
+        row.set_item("default", to_python(py, &setting.get(&defaults))?)?;
+        let numeric = setting.choices.is_empty() && setting.annotation != "bool";
+        row.set_item("range", numeric.then(|| setting.range.to_string()))?;
+        row.set_item("choices", PyTuple::new(py, setting.choices)?)?;
+        row.set_item("doc", setting.doc)?;
+        rows.append(row)?;
+    }
+    Ok(rows)
+}

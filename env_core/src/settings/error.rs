@@ -1,0 +1,54 @@
+//! What can be wrong with a setting. Every message names the key as the user types it, the
+//! value that came and what was expected; the bindings map [`SettingError::WrongType`] to
+//! `TypeError` and the rest to `ValueError`.
+
+use thiserror::Error;
+
+/// A setting that was unknown, of the wrong type, or out of its range.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SettingError {
+    /// No setting has this key.
+    #[error("unknown setting {key:?}; expected one of: {known}")]
+    UnknownKey {
+        /// The key given.
+        key: String,
+        /// Every key, comma separated.
+        known: String,
+    },
+    /// The value has the wrong type or shape (a string for a float, three numbers for a pair).
+    #[error("{key} must be {expected}, got {got}")]
+    WrongType {
+        /// The setting.
+        key: &'static str,
+        /// The type expected, in Python's terms.
+        expected: &'static str,
+        /// The value given.
+        got: String,
+    },
+    /// The value has the right type but lies outside the setting's range, or contradicts
+    /// another setting.
+    #[error("{key} must be {expected}, got {got}")]
+    OutOfRange {
+        /// The setting.
+        key: &'static str,
+        /// What was expected, e.g. `in (0, inf)` or `below cupboard_height (0.3)`.
+        expected: String,
+        /// The value given.
+        got: String,
+    },
+}
+
+impl SettingError {
+    /// An [`SettingError::OutOfRange`] for `key`.
+    pub fn out_of_range(
+        key: &'static str,
+        expected: impl Into<String>,
+        got: impl ToString,
+    ) -> Self {
+        Self::OutOfRange {
+            key,
+            expected: expected.into(),
+            got: got.to_string(),
+        }
+    }
+}

@@ -1,0 +1,142 @@
+//! The settings tables are the one description of every setting: each round-trips through
+//! its value, each refuses a value of the wrong type and one out of its range with an error
+//! that names the key as the user types it, and keys are unique across the scene and the
+//! episode.
+
+use std::collections::HashSet;
+
+use env_core::episode::EpisodeConfig;
+use env_core::scene::SceneConfig;
+use env_core::settings::{Limit, Range, SettingError, SettingValue, Settings};
+
+/// A number outside `range`, if the range has an end.
+fn outside(range: &Range) -> Option<f64> {
+    match (range.low, range.high) {
+        (Limit::Closed(low), _) => Some(low - 1.0),
+        (Limit::Open(low), _) => Some(low),
+        (_, Limit::Closed(high)) => Some(high + 1.0),
+        (_, Limit::Open(high)) => Some(high),
+        _ => None,
+    }
+}
+
+/// `value` with every number replaced by `number` (keeping ints as ints where whole).
+fn with_numbers(value: &SettingValue, number: f64) -> SettingValue {
+    match value {
+        SettingValue::Int(_) if number.fract() == 0.0 => SettingValue::Int(number as i64),
+        SettingValue::Int(_) | SettingValue::Float(_) | SettingValue::Null => {
+            SettingValue::Float(number)
+        }
+        SettingValue::List(items) => {
+            SettingValue::List(items.iter().map(|v| with_numbers(v, number)).collect())
+        }
+        other => other.clone(),
+    }
+}
+
+fn every_setting_round_trips<C: Settings + std::fmt::Debug + PartialEq>() {
+    let defaults = C::default();
+    let rebuilt = C::from_pairs(defaults.to_pairs()).expect("the defaults are valid");
+    assert_eq!(rebuilt, defaults);
+    for setting in C::table() {
+        let mut config = C::default();
+        let value = setting.get(&config);
+        config
+            .set_value(setting.key, &value)
+            .expect("a value read back is accepted");
+        assert_eq!(config, defaults, "{} did not round-trip", setting.key);
+    }
+}
+
+fn every_bad_value_names_its_key<C: Settings>() {
+    for setting in C::table() {
+        let mut config = C::default();
+        let wrong = SettingValue::List(vec![SettingValue::Bool(true); 5]);
+        match config.set_value(setting.key, &wrong) {
+            Err(SettingError::WrongType { key, .. }) => assert_eq!(key, setting.key),
+            other => panic!("{}: a wrong type gave {other:?}", setting.key),
+        }
+        let Some(bad) = outside(&setting.range) else {
+            continue;
+        };
+        if !setting.choices.is_empty() || setting.annotation == "bool" {
+            continue;
+        }
+        let value = with_numbers(&setting.get(&C::default()), bad);
+        config
+            .set_value(setting.key, &value)
+            .expect("the right type is accepted");
+        let error = config
+            .check_settings()
+            .expect_err(&format!("{} accepted {value}", setting.key));
+        assert!(
+            error.to_string().starts_with(setting.key),
+            "{}: {error}",
+            setting.key
+        );
+        assert!(
+            error.to_string().contains(&setting.range.to_string())
+                || error.to_string().contains("pair")
+        );
+    }
+}
+
+#[test]
+fn every_scene_setting_round_trips_through_its_value() {
+    every_setting_round_trips::<SceneConfig>();
+}
+
+#[test]
+fn every_episode_setting_round_trips_through_its_value() {
+    every_setting_round_trips::<EpisodeConfig>();
+}
+
+#[test]
+fn every_scene_setting_refuses_bad_values_by_its_key() {
+    every_bad_value_names_its_key::<SceneConfig>();
+}
+
+#[test]
+fn every_episode_setting_refuses_bad_values_by_its_key() {
+    every_bad_value_names_its_key::<EpisodeConfig>();
+}
+
+#[test]
+fn keys_are_unique_and_the_episode_table_holds_the_scene_table() {
+    let episode: Vec<&str> = EpisodeConfig::keys();
+    let unique: HashSet<&str> = episode.iter().copied().collect();
+    assert_eq!(unique.len(), episode.len(), "duplicate keys");
+    for key in SceneConfig::keys() {
+        assert!(unique.contains(key), "{key} missing from the episode table");
+    }
+    for setting in EpisodeConfig::table() {
+        assert!(!setting.doc.is_empty(), "{} has no doc", setting.key);
+    }
+}
+
+#[test]
+fn unknown_keys_list_the_known_ones() {
+    let error = SceneConfig::default()
+        .set_value("finger_stifness", &SettingValue::Float(1.0))
+        .unwrap_err();
+    assert!(matches!(error, SettingError::UnknownKey { .. }));
+    assert!(error.to_string().contains("finger_stiffness"));
+}
+
+#[test]
+fn a_count_given_as_one_int_means_that_many_and_optional_settings_take_none() {
+    let mut config = EpisodeConfig::default();
+    config
+        .set_value("jar_count", &SettingValue::Int(5))
+        .unwrap();
+    assert_eq!(config.scene.layout.jar_count, [5, 5]);
+    config
+        .set_value("free_space_offset", &SettingValue::Null)
+        .unwrap();
+    assert_eq!(config.map.free_space_offset, None);
+    config
+        .set_value("camera_fx", &SettingValue::Int(100))
+        .unwrap();
+    assert_eq!(config.scene.camera.intrinsics().fx, 100.0);
+    assert!(config.check_settings().is_ok());
+}
