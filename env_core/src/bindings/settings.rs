@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
 use super::convert::type_name;
+use super::errors::wrong_type;
 use crate::settings::{SettingValue, Settings};
 
 /// The Python value as a [`SettingValue`]; `TypeError` for anything a setting never takes
@@ -45,13 +46,11 @@ pub(super) fn to_setting_value(key: &str, value: &Bound<'_, PyAny>) -> PyResult<
 }
 
 fn not_a_setting_value(key: &str, value: &Bound<'_, PyAny>) -> PyErr {
-    PyTypeError::new_err(format!(
-        "{key} must be a bool, int, float, str, None or a sequence of these, got {} {}",
-        type_name(value),
-        value
-            .repr()
-            .map_or_else(|_| "?".to_owned(), |r| r.to_string())
-    ))
+    wrong_type(
+        key,
+        "a bool, int, float, str, None or a sequence of these",
+        value,
+    )
 }
 
 /// The [`SettingValue`] as a Python value (a list becomes a tuple).

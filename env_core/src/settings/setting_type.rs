@@ -64,19 +64,26 @@ fn number(value: &SettingValue) -> Option<f64> {
     }
 }
 
-/// The entries of a list of exactly `N` numbers.
-fn numbers<const N: usize>(value: &SettingValue) -> Option<[f64; N]> {
+/// The entries of a list of exactly `N` items, each read by `item`.
+fn list_of<T: Copy + Default, const N: usize>(
+    value: &SettingValue,
+    item: fn(&SettingValue) -> Option<T>,
+) -> Option<[T; N]> {
     let SettingValue::List(items) = value else {
         return None;
     };
     if items.len() != N {
         return None;
     }
-    let mut out = [0.0; N];
-    for (slot, item) in out.iter_mut().zip(items) {
-        *slot = number(item)?;
+    let mut out = [T::default(); N];
+    for (slot, entry) in out.iter_mut().zip(items) {
+        *slot = item(entry)?;
     }
     Some(out)
+}
+
+fn numbers<const N: usize>(value: &SettingValue) -> Option<[f64; N]> {
+    list_of(value, number)
 }
 
 fn count(value: &SettingValue) -> Option<usize> {
@@ -87,17 +94,7 @@ fn count(value: &SettingValue) -> Option<usize> {
 }
 
 fn counts<const N: usize>(value: &SettingValue) -> Option<[usize; N]> {
-    let SettingValue::List(items) = value else {
-        return None;
-    };
-    if items.len() != N {
-        return None;
-    }
-    let mut out = [0; N];
-    for (slot, item) in out.iter_mut().zip(items) {
-        *slot = count(item)?;
-    }
-    Some(out)
+    list_of(value, count)
 }
 
 fn ordered(key: &'static str, low: f64, high: f64, strict: bool) -> Result<(), SettingError> {
