@@ -7,7 +7,8 @@
 //! [`SceneConfig::slice_height`].
 //!
 //! - [`config`]: every tunable number, validated once.
-//! - [`cupboard`], [`jar`]: the fixed walls and the dynamic jars.
+//! - [`cupboard`], [`jar`]: the fixed walls and the dynamic jars; [`footprint`]: a jar's
+//!   cross-section at a pose (signed distance, outline, support).
 //! - [`layout`]: the seeded generator hiding the target and keeping a corridor to it.
 //! - [`visibility`]: the target's visible fraction, by ray casting.
 //! - [`ray_cast`]: exact ray casts, candidates from rapier's query pipeline.
@@ -21,6 +22,7 @@ pub mod cupboard;
 pub mod depth_camera;
 pub mod disturbance;
 pub mod error;
+pub mod footprint;
 mod groups;
 pub mod hand;
 pub mod jar;
@@ -41,6 +43,7 @@ pub use cupboard::{Cupboard, Wall, WallBox};
 pub use depth_camera::{CameraIntrinsics, DepthCamera, DepthImage, LABEL_CUPBOARD, LABEL_NONE};
 pub use disturbance::Disturbance;
 pub use error::SceneError;
+pub use footprint::Footprint;
 pub use hand::{Blocker, HandPose};
 pub use jar::{JarShape, JarSpec};
 pub use layout::{Corridor, Layout};
