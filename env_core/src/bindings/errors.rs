@@ -1,7 +1,7 @@
 //! Every conversion of a core error to a Python exception, in one place.
 
-use pyo3::exceptions::PyValueError;
-use pyo3::PyErr;
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
 
 use crate::episode::EpisodeError;
 use crate::gpis::GpisError;
@@ -34,4 +34,31 @@ pub(crate) fn wrong_shape(what: &str, expected: &str, got: &[usize]) -> PyErr {
     PyValueError::new_err(format!(
         "{what} must have shape {expected}, got shape {got:?}"
     ))
+}
+
+impl From<EpisodeError> for PyErr {
+    fn from(error: EpisodeError) -> Self {
+        // Episode errors outside a batch (the depth prior's settings and options) are bad
+        // values; the message names the setting, the value and the range expected.
+        PyValueError::new_err(error.to_string())
+    }
+}
+
+/// A `TypeError` for an argument of the wrong kind: what was expected and what came.
+pub(crate) fn wrong_kind(what: &str, expected: &str, got: &Bound<'_, PyAny>) -> PyErr {
+    let kind = got
+        .get_type()
+        .name()
+        .map_or_else(|_| "?".to_owned(), |n| n.to_string());
+    let shape = got
+        .getattr("shape")
+        .ok()
+        .and_then(|s| s.repr().ok())
+        .map_or_else(String::new, |s| format!(" of shape {s}"));
+    PyTypeError::new_err(format!("{what} must be {expected}, got {kind}{shape}"))
+}
+
+/// A `ValueError` for an argument of the right kind with a wrong value.
+pub(crate) fn bad_value(what: &str, expected: &str, got: impl std::fmt::Display) -> PyErr {
+    PyValueError::new_err(format!("{what} must be {expected}, got {got}"))
 }
