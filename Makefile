@@ -29,7 +29,7 @@ build: $(VENV)/.extra-plots ## compile the Rust core (release) and install the p
 build-dev: $(VENV)/.extra-dev $(VENV)/.extra-agents build ## build, plus the test, lint and agent tools (torch, SB3)
 
 demo: $(VENV)/.extra-agents build ## build, install, train two agents briefly, evaluate with the baselines (results/)
-	$(PY) -m tactile_search.demo --out results/demo_gpis.png
+	$(PY) -m experiments.demo --out results/demo_gpis.png
 	$(PY) -m agents.pipeline --budget demo
 
 results: $(VENV)/.extra-agents build ## the documented budget: train every agent, evaluate, write docs/RESULTS.md
@@ -39,8 +39,8 @@ test: build-dev lint ## cargo fmt/clippy, ruff, cargo test and pytest
 	cargo test --workspace
 	$(PY) -m pytest -q
 
-paper: build ## regenerate docs/paper/ figures and docs/PAPER.md's table
-	$(PY) -m tactile_search.paper --out docs/paper
+paper: build ## regenerate docs/paper/ figures and docs/PAPER.md's table (experiments/paper)
+	$(PY) -m experiments.paper --out docs/paper
 
 bench: build-dev ## criterion benchmarks and the Python benchmark scripts (prints figures)
 	cargo bench -p env_core --bench gpis_append

@@ -2,7 +2,8 @@
 
 No ground truth of an episode: the numbers come from the env's config and from a scene
 built with the same ``scene_config`` (``Scene.config``: the core's defaults plus the
-overrides; the cupboard, the camera and the hand's start pose).
+overrides; the cupboard, the camera and the hand's start pose), and derived sizes from the
+core's own functions (``_core.hand_geometry``: the finger joint's offset from the wrist).
 """
 
 from __future__ import annotations
@@ -15,9 +16,6 @@ import numpy as np
 
 from tactile_search import CupboardSearchEnv, _core
 
-# Gap between the wrist's front face and the finger's joint (env_core/src/scene/hand.rs), m.
-JOINT_GAP = 0.002
-
 
 @functools.lru_cache(maxsize=8)
 def _probe_scene(scene_items: tuple) -> tuple:
@@ -29,6 +27,7 @@ def _probe_scene(scene_items: tuple) -> tuple:
         (float(camera[0]), float(camera[1])),
         tuple(scene.hand_pose),
         scene.config,
+        _core.hand_geometry(scene.config)["joint_offset"],
     )
 
 
@@ -49,6 +48,7 @@ class Geometry:
     finger_length: float
     finger_half_thickness: float
     finger_limit: float
+    joint_offset: float
     jar_radius: tuple[float, float]
     target_min_depth: float
     wall_gap: float
@@ -60,7 +60,7 @@ class Geometry:
     def from_env(cls, env: CupboardSearchEnv) -> Geometry:
         scene_config = env.config.scene_dict()
         items = tuple(sorted((k, _hashable(v)) for k, v in scene_config.items()))
-        width, depth, camera, start, value = _probe_scene(items)
+        width, depth, camera, start, value, joint_offset = _probe_scene(items)
         radii = (
             0.5 * min(value["round_diameter"][0], value["square_side"][0]),
             0.5 * max(value["round_diameter"][1], np.sqrt(2.0) * value["square_side"][1]),
@@ -80,6 +80,7 @@ class Geometry:
             finger_length=float(value["finger_length"]),
             finger_half_thickness=float(value["finger_half_thickness"]),
             finger_limit=float(value["finger_limit"]),
+            joint_offset=float(joint_offset),
             jar_radius=radii,
             target_min_depth=float(value["target_min_depth"]),
             wall_gap=float(value["wall_gap"]),
@@ -87,11 +88,6 @@ class Geometry:
             mean_scale=float(env.config.mean_scale),
             std_scale=float(env.config.std_scale),
         )
-
-    @property
-    def joint_offset(self) -> float:
-        """Distance from the wrist's centre to the finger's joint, m."""
-        return self.wrist_half_extent + JOINT_GAP
 
     @property
     def reach(self) -> float:

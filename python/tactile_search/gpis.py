@@ -150,6 +150,25 @@ class Gpis:
             as_real("normal_noise_std", normal_noise_std, minimum=0.0),
         )
 
+    def add_observations(self, observations: _core.Observations) -> int:
+        """Adds ready-made observations in one call, in their order: the rows of
+        ``_core.depth_prior``, the environment's depth prior, so that a map started this way
+        holds exactly what the environment's map holds after reset.
+
+        Returns:
+            The number of rows added.
+
+        Raises:
+            TypeError: ``observations`` is not a ``_core.Observations``.
+            ValueError: they do not fit in ``free_rows`` or lie outside the bounds.
+        """
+        if not isinstance(observations, _core.Observations):
+            raise TypeError(
+                "observations must be a tactile_search._core.Observations (from "
+                f"_core.depth_prior), got {type(observations).__name__}"
+            )
+        return self._core.add_observations(observations)
+
     def predict(
         self, points: ArrayLike, return_gradient: bool = False
     ) -> (

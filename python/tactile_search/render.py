@@ -11,16 +11,20 @@ from typing import Any
 
 import numpy as np
 
+from tactile_search import _core
+
 
 def _jar_outline(jar: dict[str, Any]) -> np.ndarray:
-    """(N, 2) outline of a jar's footprint."""
-    if jar["shape"] == "round":
-        t = np.linspace(0.0, 2.0 * np.pi, 48)
-        return np.c_[jar["x"] + jar["size"] / 2 * np.cos(t), jar["y"] + jar["size"] / 2 * np.sin(t)]
-    half = jar["size"] / 2
-    corners = np.array([[-half, -half], [half, -half], [half, half], [-half, half], [-half, -half]])
-    c, s = np.cos(jar["yaw"]), np.sin(jar["yaw"])
-    return corners @ np.array([[c, s], [-s, c]]) + [jar["x"], jar["y"]]
+    """(N, 2) closed outline of a jar's footprint (``render_state``'s jar dict), from the
+    core's footprint geometry."""
+    jars = {
+        "shapes": [jar["shape"]],
+        "positions": [[jar["x"], jar["y"]]],
+        "half_widths": [jar["size"] / 2],
+        "yaws": [jar["yaw"]],
+    }
+    outline = _core.jar_outlines(jars, 48)[0]
+    return np.vstack([outline, outline[:1]])
 
 
 def _draw_scene(ax: Any, state: dict[str, Any]) -> None:

@@ -59,15 +59,26 @@ pub(crate) fn wrong_shape(what: &str, expected: &str, got: &[usize]) -> PyErr {
     ))
 }
 
-/// A `TypeError` for an argument of the wrong type.
+/// A `TypeError` for an argument of the wrong type: what was expected and what came (its
+/// type, and its shape for an array or its repr for anything else).
 pub(crate) fn wrong_type(what: &str, expected: &str, value: &Bound<'_, PyAny>) -> PyErr {
-    PyTypeError::new_err(format!(
-        "{what} must be {expected}, got {} {}",
-        type_name(value),
-        value
-            .repr()
-            .map_or_else(|_| "?".to_owned(), |r| r.to_string())
-    ))
+    let described = match value.getattr("shape") {
+        Ok(shape) => format!(
+            "{} of shape {}",
+            type_name(value),
+            shape
+                .repr()
+                .map_or_else(|_| "?".to_owned(), |r| r.to_string())
+        ),
+        Err(_) => format!(
+            "{} {}",
+            type_name(value),
+            value
+                .repr()
+                .map_or_else(|_| "?".to_owned(), |r| r.to_string())
+        ),
+    };
+    PyTypeError::new_err(format!("{what} must be {expected}, got {described}"))
 }
 
 /// A `ValueError` for an argument of the right type and a wrong value.
@@ -78,4 +89,12 @@ pub(crate) fn wrong_value(what: &str, expected: &str, got: impl std::fmt::Displa
 /// An `IndexError` for an episode index outside the batch.
 pub(crate) fn episode_index_error(index: usize, len: usize) -> PyErr {
     PyIndexError::new_err(format!("episode index must be in [0, {len}), got {index}"))
+}
+
+impl From<EpisodeError> for PyErr {
+    fn from(error: EpisodeError) -> Self {
+        // Episode errors outside a batch (the depth prior's settings and options) are bad
+        // values; the message names the setting, the value and the range expected.
+        PyValueError::new_err(error.to_string())
+    }
 }

@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use super::errors::wrong_shape;
+use super::prior::PyObservations;
 use crate::gpis::{AddReport, Gpis, GpisConfig};
 
 /// An (H, W) grid and a second one of the same shape.
@@ -107,6 +108,20 @@ impl PyGpis {
         let report = self
             .inner
             .add_circle_prior(centre, diameter, noise_std, normal_noise_std)?;
+        self.last_report = report;
+        Ok(report.added_rows)
+    }
+
+    /// Adds `observations` (e.g. from `depth_prior`) in one call, as the environment adds
+    /// its prior; returns the number of rows added.
+    fn add_observations(
+        &mut self,
+        py: Python<'_>,
+        observations: PyRef<'_, PyObservations>,
+    ) -> PyResult<usize> {
+        let rows = &observations.rows;
+        let inner = &mut self.inner;
+        let report = py.detach(|| inner.add(rows, None))?;
         self.last_report = report;
         Ok(report.added_rows)
     }

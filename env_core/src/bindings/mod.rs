@@ -4,13 +4,19 @@
 //! - [`convert`]: type names, seeds, numpy arrays out of the core's data.
 //! - [`errors`]: every Python exception the bindings raise.
 //! - [`settings`]: the generic glue over the core's settings tables (no key is listed here).
+//! - [`arrays`]: array arguments checked and converted.
+//! - [`geometry`], [`prior`]: the core's geometry, metrics and depth prior as functions,
+//!   so experiments run what the environment runs.
 //! - one file per class: [`gpis`] (`GpisCore`), [`scene`] (`Scene`), [`episode`]
 //!   (`EpisodeBatch`).
 
+mod arrays;
 mod convert;
 mod episode;
 mod errors;
+mod geometry;
 mod gpis;
+mod prior;
 mod scene;
 mod settings;
 
@@ -23,6 +29,8 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<gpis::PyGpis>()?;
     m.add_class::<scene::PyScene>()?;
     m.add_class::<episode::PyEpisodeBatch>()?;
+    geometry::register(m)?;
+    prior::register(m)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

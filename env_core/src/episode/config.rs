@@ -52,6 +52,9 @@ settings! {
         /// Free-space evidence: a value observation f = +offset this far in front of each
         /// depth point along its camera ray, m; None for surface points only.
         free_space_offset: Option<f64> = Some(0.01) => "free_space_offset" in Range::POSITIVE,
+        /// Depth points closer than this to the side or back walls are left out of the prior
+        /// before thinning, m (they are the cupboard, not a jar); 0 keeps every point.
+        wall_clearance: f64 = 0.0 => "prior_wall_clearance" in Range::NON_NEGATIVE,
         /// GPIS noise standard deviation of a contact's position, m.
         contact_noise_std: f64 = 0.001 => "contact_noise_std" in Range::NON_NEGATIVE,
         /// GPIS noise standard deviation of each contact-normal component.

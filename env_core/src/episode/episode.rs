@@ -150,9 +150,7 @@ impl Episode {
         if let Some(gpis) = &mut self.gpis {
             gpis.clear();
             let prior = depth_prior(slice, camera, &self.grid, &self.config.map)?;
-            // Keep room for touch: the prior takes at most half the rows.
-            let budget = prior.len().min(self.config.map.max_rows / 2);
-            gpis.add(&prior[..budget], None)?;
+            gpis.add(&prior, None)?;
         }
         if let Some(occupancy) = &mut self.occupancy {
             occupancy.clear();

@@ -7,6 +7,8 @@
 //! - [`occupancy`]: the plain evidence grid of the `occupancy` mode.
 //! - [`map_image`]: the map as a uint8 image for the agent.
 //! - [`metrics`]: true footprints and the IoU of a map against them.
+//! - [`level_set`], [`outline`]: the map's zero level set and its distance to the true
+//!   outlines.
 //! - [`oracle`]: a scripted searcher that knows the target (the upper bound).
 //! - [`Episode`]: reset, step, observations.
 //! - [`EpisodeBatch`]: many episodes stepped on all cores.
@@ -17,10 +19,12 @@ pub mod config;
 #[allow(clippy::module_inception)]
 mod episode;
 pub mod error;
+pub mod level_set;
 pub mod map_image;
 pub mod metrics;
 pub mod occupancy;
 pub mod oracle;
+pub mod outline;
 pub mod prior;
 
 pub use batch::EpisodeBatch;

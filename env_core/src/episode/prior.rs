@@ -1,10 +1,20 @@
 //! The GPIS prior from the depth camera's first look (design notes §3, paper §IV.A):
 //! surface points (f = 0), optional free-space points in front of them along their camera
 //! rays (f = +offset), and the optional circle prior behind each cluster of depth points.
+//!
+//! This is the one implementation of the prior: the environment starts its map with
+//! [`depth_prior`], and the bindings expose it so that the paper's
+//! experiments and the demo get the identical rows for the same slice and settings. The
+//! paper's prior options are settings: a constant mean is [`MapConfig::prior_mean`] (on the
+//! map, not in the rows), the circle prior [`MapConfig::circle_prior_diameter`], free space
+//! [`MapConfig::free_space_offset`], leaving out the walls' points
+//! [`MapConfig::wall_clearance`].
 
 use super::config::MapConfig;
-use crate::gpis::{GpisError, GridSpec, Observation};
+use super::error::EpisodeError;
+use crate::gpis::{GridSpec, Observation};
 use crate::scene::point_cloud::thin_indices;
+use crate::settings::SettingError;
 
 /// Depth points closer than this belong to the same cluster (one visible jar face), m.
 const CLUSTER_GAP: f64 = 0.015;
@@ -45,20 +55,32 @@ fn clusters(points: &[[f64; 2]]) -> Vec<Vec<usize>> {
     groups
 }
 
-/// The prior's observations from the noisy depth slice seen from `camera` (x, y). Points
-/// outside the map's bounds (noise can push wall points out) are left out, the rest thinned
-/// evenly to `max_prior_depth_points`.
+/// The prior's observations, in the order they enter the map, from the noisy depth
+/// `slice` seen from `camera` (x, y). Points outside the map's bounds (noise can push wall
+/// points out) or within `config.wall_clearance` of its side and back walls are left out,
+/// the rest thinned evenly to `max_prior_depth_points`; then come the free-space points
+/// and the circle priors (a circle that does not fit in the bounds is dropped). The list is
+/// cut so that it holds at most `max_rows / 2` GP rows: the rest is room for touch.
+/// `config` must be valid ([`super::EpisodeConfig::validate`]); fails on a non-finite
+/// camera. Cost O(p + n²) for p slice points and n kept points.
 pub fn depth_prior(
     slice: &[[f64; 2]],
     camera: [f64; 2],
     grid: &GridSpec,
     config: &MapConfig,
-) -> Result<Vec<Observation>, GpisError> {
+) -> Result<Vec<Observation>, EpisodeError> {
+    if let Some(&value) = camera.iter().find(|v| !v.is_finite()) {
+        return Err(SettingError::out_of_range("camera", "a finite (x, y)", value).into());
+    }
     let depth_var = config.depth_noise_std.powi(2);
+    let [[x0, x1], [_, y1]] = grid.bounds();
+    let clearance = config.wall_clearance;
+    let clear_of_walls =
+        |p: [f64; 2]| p[0] - x0 >= clearance && x1 - p[0] >= clearance && y1 - p[1] >= clearance;
     let seen: Vec<[f64; 2]> = slice
         .iter()
         .copied()
-        .filter(|&p| grid.contains(p))
+        .filter(|&p| grid.contains(p) && clear_of_walls(p))
         .collect();
     let inside: Vec<[f64; 2]> = thin_indices(seen.len(), config.max_prior_depth_points)
         .into_iter()
@@ -104,5 +126,84 @@ pub fn depth_prior(
             }
         }
     }
+    // Keep room for touch: the prior takes at most half the rows.
+    let budget = config.max_rows / 2;
+    let mut rows = 0;
+    let fit = observations
+        .iter()
+        .take_while(|o| {
+            rows += o.n_rows();
+            rows <= budget
+        })
+        .count();
+    observations.truncate(fit);
     Ok(observations)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid() -> GridSpec {
+        GridSpec::new([[-0.3, 0.3], [0.0, 0.3]], (40, 80)).unwrap()
+    }
+
+    /// A jar's front face (10 points) and a stretch of the back wall (10 points).
+    fn slice() -> Vec<[f64; 2]> {
+        let face = (0..10).map(|k| [-0.02 + 0.004 * k as f64, 0.1]);
+        let wall = (0..10).map(|k| [0.1 + 0.004 * k as f64, 0.299]);
+        face.chain(wall).collect()
+    }
+
+    #[test]
+    fn wall_clearance_leaves_out_the_walls_and_nothing_else() {
+        let config = MapConfig {
+            free_space_offset: None,
+            ..MapConfig::default()
+        };
+        let all = depth_prior(&slice(), [0.0, -0.25], &grid(), &config).unwrap();
+        assert_eq!(all.len(), 20);
+        let config = MapConfig {
+            wall_clearance: 0.005,
+            ..config
+        };
+        let clear = depth_prior(&slice(), [0.0, -0.25], &grid(), &config).unwrap();
+        assert_eq!(clear.len(), 10);
+        assert!(clear.iter().all(|o| o.point()[1] < 0.2));
+    }
+
+    #[test]
+    fn circle_priors_sit_behind_their_cluster_and_only_where_they_fit() {
+        let config = MapConfig {
+            free_space_offset: None,
+            circle_prior_diameter: Some(0.03),
+            ..MapConfig::default()
+        };
+        let rows = depth_prior(&slice(), [0.0, -0.25], &grid(), &config).unwrap();
+        // Two clusters; the one on the back wall would put its circle beyond the wall.
+        let contacts: Vec<_> = rows
+            .iter()
+            .filter(|o| matches!(o, Observation::Contact { .. }))
+            .collect();
+        assert_eq!(contacts.len(), 4);
+        // Its centre lies one radius behind the face (y = 0.1), seen from the camera.
+        let centre_y = contacts.iter().map(|o| o.point()[1]).sum::<f64>() / 4.0;
+        assert!((centre_y - 0.115).abs() < 1e-4, "{centre_y}");
+    }
+
+    #[test]
+    fn the_prior_leaves_half_the_rows_for_touch() {
+        let config = MapConfig {
+            max_rows: 24,
+            ..MapConfig::default()
+        };
+        let rows = depth_prior(&slice(), [0.0, -0.25], &grid(), &config).unwrap();
+        assert_eq!(rows.iter().map(Observation::n_rows).sum::<usize>(), 12);
+    }
+
+    #[test]
+    fn bad_cameras_are_errors_not_panics() {
+        let config = MapConfig::default();
+        assert!(depth_prior(&slice(), [f64::INFINITY, -0.25], &grid(), &config).is_err());
+    }
 }

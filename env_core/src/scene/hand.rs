@@ -25,6 +25,18 @@ const JOINT_GAP: f64 = 0.002;
 /// Bisection steps when a motion is blocked (resolution 2⁻¹⁶ of the motion).
 const BISECTION_STEPS: usize = 16;
 
+/// Distance from the wrist's centre to the finger's joint along the finger's direction, m:
+/// the wrist's half extent plus the gap that keeps the finger's root clear of it. Planners
+/// and experiments read it from here (through the bindings), never as a constant of their own.
+pub fn joint_offset(config: &HandConfig) -> f64 {
+    config.wrist_half_extent + JOINT_GAP
+}
+
+/// Distance from the wrist's centre to the undeflected fingertip, m.
+pub fn reach(config: &HandConfig) -> f64 {
+    joint_offset(config) + config.finger_length
+}
+
 /// A wrist pose in the slice plane.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HandPose {
@@ -121,7 +133,7 @@ impl Hand {
         world.insert_collider(hand_collider(wrist_shape, 0.0), Some(wrist_body));
         world.insert_collider(hand_collider(arm_shape, arm_offset), Some(wrist_body));
 
-        let joint_y = w + JOINT_GAP;
+        let joint_y = joint_offset(config);
         let l = config.finger_length;
         let finger_builder = ColliderBuilder::cuboid(
             config.finger_half_thickness as Real,
@@ -262,7 +274,7 @@ impl Hand {
     }
 
     fn joint_y(&self) -> f64 {
-        self.config.wrist_half_extent + JOINT_GAP
+        joint_offset(&self.config)
     }
 
     /// The commanded wrist pose.

@@ -3,6 +3,7 @@
 
 use rapier3d::prelude::*;
 
+use super::footprint::Footprint;
 use super::groups;
 
 /// The cross-section of a jar.
@@ -124,19 +125,18 @@ impl JarSpec {
         world.insert(body, collider)
     }
 
+    /// The jar's footprint placed at `(x, y, yaw)`.
+    pub fn footprint_at(&self, x: f64, y: f64, yaw: f64) -> Footprint {
+        Footprint {
+            shape: self.shape,
+            centre: [x, y],
+            yaw,
+        }
+    }
+
     /// Signed distance from a point of the slice plane to the jar's footprint placed at
     /// `(x, y, yaw)` (negative inside), m. Exact for both shapes. Cost: O(1).
     pub fn footprint_distance(&self, point: [f64; 2], x: f64, y: f64, yaw: f64) -> f64 {
-        let (dx, dy) = (point[0] - x, point[1] - y);
-        match self.shape {
-            JarShape::Round { radius } => dx.hypot(dy) - radius,
-            JarShape::Square { half_side } => {
-                let (s, c) = yaw.sin_cos();
-                let lx = (c * dx + s * dy).abs() - half_side;
-                let ly = (-s * dx + c * dy).abs() - half_side;
-                let outside = lx.max(0.0).hypot(ly.max(0.0));
-                outside + lx.max(ly).min(0.0)
-            }
-        }
+        self.footprint_at(x, y, yaw).signed_distance(point)
     }
 }

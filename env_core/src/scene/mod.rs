@@ -8,7 +8,8 @@
 //!
 //! - [`config`]: every setting of the scene, declared once in its settings table.
 //! - [`camera_intrinsics`]: the pinhole intrinsics derived from the camera settings.
-//! - [`cupboard`], [`jar`]: the fixed walls and the dynamic jars.
+//! - [`cupboard`], [`jar`]: the fixed walls and the dynamic jars; [`footprint`]: a jar's
+//!   cross-section at a pose (signed distance, outline, support).
 //! - [`layout`]: the seeded generator hiding the target and keeping a corridor to it.
 //! - [`visibility`]: the target's visible fraction, by ray casting.
 //! - [`ray_cast`]: exact ray casts, candidates from rapier's query pipeline.
@@ -23,6 +24,7 @@ pub mod cupboard;
 pub mod depth_camera;
 pub mod disturbance;
 pub mod error;
+pub mod footprint;
 mod groups;
 pub mod hand;
 pub mod jar;
@@ -44,6 +46,7 @@ pub use cupboard::{Cupboard, Wall, WallBox};
 pub use depth_camera::{DepthCamera, DepthImage, LABEL_CUPBOARD, LABEL_NONE};
 pub use disturbance::Disturbance;
 pub use error::SceneError;
+pub use footprint::Footprint;
 pub use hand::{Blocker, HandPose};
 pub use jar::{JarShape, JarSpec};
 pub use layout::{Corridor, Layout};

@@ -8,7 +8,7 @@ import pytest
 
 pytest.importorskip("matplotlib")
 
-from tactile_search import demo
+from experiments import demo
 
 
 def test_demo_writes_its_figure_and_touch_improves_iou(tmp_path: Path) -> None:

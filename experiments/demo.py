@@ -2,78 +2,60 @@
 
 Three jar outlines (two round, one square) stand in the slice plane of a cupboard 0.6 m wide
 and 0.3 m deep. A depth camera in front of the opening sees only their front faces; its
-noisy points build the GPIS prior (f = 0 on each hit, f = +d a little in front of it along
-the ray, where the camera saw free space). A handful of contacts on the hidden sides
-(point + outward normal) then update the map. The demo prints the IoU of the map's interior
-(mean < 0) against the true jar footprints for both maps and writes a figure of mean,
-standard deviation and zero level set against the true outlines.
+noisy points build the GPIS prior exactly as the environment builds it (``_core.depth_prior``:
+f = 0 on each hit, f = +d a little in front of it along the ray, thinned, at the
+environment's default settings). A handful of contacts on the hidden sides (point + outward
+normal) then update the map with the environment's contact noise. The demo prints the IoU of
+the map's interior (mean < 0) against the true jar footprints for both maps (the
+environment's ``info["iou"]``, ``_core.interior_iou``) and writes a figure of mean, standard
+deviation and zero level set against the true outlines. The jars' geometry (signed distance,
+outlines) is the core's (``_core.jar_signed_distance``, ``_core.jar_outlines``).
 
-Run: ``python -m tactile_search.demo --out results/demo_gpis.png`` (``make demo`` does this).
-The full environment replaces this synthetic scene once the cupboard simulation lands.
+Run: ``python -m experiments.demo --out results/demo_gpis.png`` (``make demo`` does this).
 """
 
 from __future__ import annotations
 
 import argparse
-from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from tactile_search import Gpis
+from experiments.maps import add_touch, env_settings, start_map
+from tactile_search import Gpis, _core
 
 BOUNDS = ((-0.3, 0.3), (0.0, 0.3))
 CAMERA = np.array([0.0, -0.25])
+DEPTH_NOISE_STD = 0.002
+
+# The shelf in the format of ``Scene.jars``: the last jar, behind the other two, is the
+# hidden target. Half widths are radii (round) or half sides (square).
+SHELF: dict[str, Any] = {
+    "shapes": ["round", "square", "round"],
+    "positions": np.array([[-0.06, 0.09], [0.03, 0.10], [-0.02, 0.17]]),
+    "half_widths": np.array([0.025, 0.024, 0.026]),
+    "yaws": np.array([0.0, 0.35, 0.0]),
+}
 
 
-@dataclass(frozen=True)
-class Jar:
-    """A jar's outline in the slice plane: a circle, or a square rotated by ``yaw``."""
-
-    centre: tuple[float, float]
-    size: float  # diameter of a round jar, side of a square one
-    square: bool = False
-    yaw: float = 0.0
-
-    def signed_distance(self, points: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Exact signed distance (negative inside) at ``(N, 2)`` points."""
-        local = points - np.asarray(self.centre)
-        if not self.square:
-            return np.linalg.norm(local, axis=-1) - self.size / 2
-        c, s = np.cos(self.yaw), np.sin(self.yaw)
-        local = local @ np.array([[c, -s], [s, c]])  # into the jar's frame
-        q = np.abs(local) - self.size / 2
-        outside = np.linalg.norm(np.maximum(q, 0.0), axis=-1)
-        return outside + np.minimum(np.max(q, axis=-1), 0.0)
-
-    def outline(self, count: int = 200) -> NDArray[np.float64]:
-        """``(count, 2)`` points along the outline, for plotting and touching."""
-        t = np.linspace(0.0, 2 * np.pi, count, endpoint=False)
-        if not self.square:
-            return np.asarray(self.centre) + self.size / 2 * np.c_[np.cos(t), np.sin(t)]
-        # Walk the square's perimeter at uniform speed.
-        u = np.linspace(0.0, 4.0, count, endpoint=False)
-        side, f = np.floor(u).astype(int), u - np.floor(u)
-        corners = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1], [-1, -1]]) * self.size / 2
-        local = corners[side] + f[:, None] * (corners[side + 1] - corners[side])
-        c, s = np.cos(self.yaw), np.sin(self.yaw)
-        return np.asarray(self.centre) + local @ np.array([[c, s], [-s, c]])
+def subset(jars: dict[str, Any], keep: list[int]) -> dict[str, Any]:
+    """The jars ``keep`` of a jars dict."""
+    return {
+        "shapes": [jars["shapes"][k] for k in keep],
+        "positions": np.asarray(jars["positions"])[keep],
+        "half_widths": np.asarray(jars["half_widths"])[keep],
+        "yaws": np.asarray(jars["yaws"])[keep],
+    }
 
 
-SHELF = (
-    Jar((-0.06, 0.09), 0.050),
-    Jar((0.03, 0.10), 0.048, square=True, yaw=0.35),
-    Jar((-0.02, 0.17), 0.052),  # behind the other two: the hidden target
-)
+def scene_distance(points: NDArray[np.float64], jars: dict[str, Any]) -> NDArray[np.float64]:
+    """Signed distance to the nearest jar (the core's footprints)."""
+    return _core.jar_signed_distance(jars, points).min(axis=0)
 
 
-def scene_distance(points: NDArray[np.float64], jars: tuple[Jar, ...]) -> NDArray[np.float64]:
-    """Signed distance to the nearest jar."""
-    return np.min([jar.signed_distance(points) for jar in jars], axis=0)
-
-
-def outward_normals(points: NDArray[np.float64], jars: tuple[Jar, ...]) -> NDArray[np.float64]:
+def outward_normals(points: NDArray[np.float64], jars: dict[str, Any]) -> NDArray[np.float64]:
     """Unit gradient of the scene's signed distance (central differences)."""
     h = 1e-6
     steps = np.array([[h, 0.0], [0.0, h]])
@@ -85,7 +67,7 @@ def outward_normals(points: NDArray[np.float64], jars: tuple[Jar, ...]) -> NDArr
 
 
 def depth_scan(
-    jars: tuple[Jar, ...], rays: int, noise_std: float, rng: np.random.Generator
+    jars: dict[str, Any], rays: int, noise_std: float, rng: np.random.Generator
 ) -> NDArray[np.float64]:
     """First hits of a fan of camera rays (sphere tracing the signed distance), with noise."""
     half_fov = np.arctan2(0.3, 0.25 + 0.05)
@@ -100,25 +82,17 @@ def depth_scan(
     return hits + rng.normal(0.0, noise_std, size=hits.shape)
 
 
-def free_space_points(
-    surface: NDArray[np.float64], offset: float
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Points ``offset`` in front of each surface point along its camera ray, f = +offset."""
-    towards_camera = CAMERA - surface
-    towards_camera /= np.linalg.norm(towards_camera, axis=-1, keepdims=True)
-    return surface + offset * towards_camera, np.full(len(surface), offset)
-
-
 def hidden_contacts(
-    jars: tuple[Jar, ...], per_jar: int, noise_std: float, rng: np.random.Generator
+    jars: dict[str, Any], per_jar: int, noise_std: float, rng: np.random.Generator
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Touches on the sides the camera cannot see, as (points, outward normals)."""
+    count = len(jars["shapes"])
     points = []
-    for jar in jars:
-        outline = jar.outline()
+    for k, outline in enumerate(_core.jar_outlines(jars, 200)):
         normals = outward_normals(outline, jars)
         away = np.einsum("ij,ij->i", normals, outline - CAMERA) > 0.0
-        exposed = scene_distance(outline, tuple(j for j in jars if j is not jar)) > 0.01
+        others = subset(jars, [j for j in range(count) if j != k])
+        exposed = scene_distance(outline, others) > 0.01
         candidates = outline[away & exposed]
         chosen = rng.choice(len(candidates), size=min(per_jar, len(candidates)), replace=False)
         points.append(candidates[np.sort(chosen)])
@@ -127,12 +101,11 @@ def hidden_contacts(
     return points + rng.normal(0.0, noise_std, size=points.shape), normals
 
 
-def interior_iou(gpis: Gpis, jars: tuple[Jar, ...]) -> float:
-    """IoU of the map's interior (mean < 0) against the true footprints, on the map's grid."""
-    truth = scene_distance(gpis.cell_centres.reshape(-1, 2), jars).reshape(gpis.shape) < 0.0
-    estimate = gpis.mean < 0.0
-    union = np.count_nonzero(truth | estimate)
-    return np.count_nonzero(truth & estimate) / union if union else 1.0
+def interior_iou(gpis: Gpis, jars: dict[str, Any]) -> float:
+    """IoU of the map's interior (mean < 0) against the true footprints, on the map's grid,
+    as the environment reports it."""
+    truth = _core.footprint_mask(jars, gpis.bounds, gpis.shape)
+    return _core.interior_iou(gpis.mean, truth)
 
 
 def build_maps(
@@ -140,17 +113,12 @@ def build_maps(
 ) -> tuple[Gpis, Gpis, dict[str, NDArray[np.float64]]]:
     """The depth-only map and the depth + touch map of the synthetic shelf."""
     rng = np.random.default_rng(seed)
-    depth = depth_scan(SHELF, rays=240, noise_std=0.002, rng=rng)
-    free, free_values = free_space_points(depth, offset=0.01)
+    depth = depth_scan(SHELF, rays=240, noise_std=DEPTH_NOISE_STD, rng=rng)
     contact_points, contact_normals = hidden_contacts(SHELF, 5, noise_std=0.0005, rng=rng)
-
-    prior = Gpis(bounds=BOUNDS, shape=shape, prior_mean=prior_mean)
-    prior.add_values(depth, noise_std=0.002)
-    prior.add_values(free, free_values, noise_std=0.004)
-    touched = Gpis(bounds=BOUNDS, shape=shape, prior_mean=prior_mean)
-    touched.add_values(depth, noise_std=0.002)
-    touched.add_values(free, free_values, noise_std=0.004)
-    touched.add_contacts(contact_points, contact_normals, noise_std=0.0005, normal_noise_std=0.05)
+    settings = {"prior_mean": prior_mean}
+    prior = start_map(depth, CAMERA, BOUNDS, shape, settings)
+    touched = start_map(depth, CAMERA, BOUNDS, shape, settings)
+    add_touch(touched, contact_points, contact_normals)
     measurements = {"depth": depth, "contacts": contact_points, "normals": contact_normals}
     return prior, touched, measurements
 
@@ -164,6 +132,7 @@ def plot(maps: dict[str, Gpis], measurements: dict[str, NDArray[np.float64]], ou
 
     (x0, x1), (y0, y1) = BOUNDS
     extent = (x0, x1, y0, y1)
+    outlines = _core.jar_outlines(SHELF, 200)
     fig, axes = plt.subplots(len(maps), 2, figsize=(11, 3.2 * len(maps)), squeeze=False)
     for row, (title, gpis) in enumerate(maps.items()):
         limit = np.abs(gpis.mean).max()
@@ -173,9 +142,9 @@ def plot(maps: dict[str, Gpis], measurements: dict[str, NDArray[np.float64]], ou
         )
         centres = gpis.cell_centres
         ax.contour(centres[..., 0], centres[..., 1], gpis.mean, levels=[0.0], colors="k")
-        for jar in SHELF:
-            outline = np.vstack([jar.outline(), jar.outline()[:1]])
-            ax.plot(outline[:, 0], outline[:, 1], color="magenta", lw=1.0)
+        for outline in outlines:
+            closed = np.vstack([outline, outline[:1]])
+            ax.plot(closed[:, 0], closed[:, 1], color="magenta", lw=1.0)
         ax.scatter(*measurements["depth"].T, s=2, c="tab:green", label="depth")
         if "touch" in title:
             points, normals = measurements["contacts"], measurements["normals"]
@@ -215,7 +184,12 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=Path("results/demo_gpis.png"))
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--prior-mean", type=float, default=0.01)
+    parser.add_argument(
+        "--prior-mean",
+        type=float,
+        default=env_settings()["prior_mean"],
+        help="constant prior mean (default: the environment's)",
+    )
     parser.add_argument("--grid", type=int, nargs=2, default=(64, 128), metavar=("H", "W"))
     args = parser.parse_args(argv)
 

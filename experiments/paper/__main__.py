@@ -1,0 +1,5 @@
+"""``python -m experiments.paper``: see ``experiments.paper.cli``."""
+
+from experiments.paper.cli import main
+
+main()
