@@ -7,7 +7,7 @@
 //! - [`episode`]: mechanical-search episodes (map from depth and touch, reward, episode end)
 //!   and a batch of them stepped in parallel.
 //!
-//! The pyo3 bindings live in the `python` module behind the `python` cargo feature, so that
+//! The pyo3 bindings live in the `bindings` module behind the `python` cargo feature, so that
 //! `cargo test` builds and runs without a Python interpreter.
 
 pub mod episode;
@@ -15,4 +15,4 @@ pub mod gpis;
 pub mod scene;
 
 #[cfg(feature = "python")]
-mod python;
+mod bindings;
