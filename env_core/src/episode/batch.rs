@@ -182,10 +182,6 @@ impl EpisodeBatch {
         } else {
             maps.chunks_mut(map_len).collect()
         };
-        let work = |(((episode, &command), map), proprio): (
-            ((&mut Episode, &Command), &mut [u8]),
-            &mut [f32],
-        )| carry_out(episode, command, map, proprio);
         let outcomes: Vec<Result<(), EpisodeError>> = if self.threads == 1 || n == 1 {
             // One worker: run on the calling thread (a hand-off costs more than a step).
             self.episodes
@@ -193,7 +189,7 @@ impl EpisodeBatch {
                 .zip(commands)
                 .zip(map_rows)
                 .zip(proprio.chunks_mut(PROPRIO_LEN))
-                .map(work)
+                .map(carry_out)
                 .collect()
         } else {
             let episodes = &mut self.episodes;
@@ -203,7 +199,7 @@ impl EpisodeBatch {
                     .zip(commands.par_iter())
                     .zip(map_rows.into_par_iter())
                     .zip(proprio.par_chunks_mut(PROPRIO_LEN))
-                    .map(work)
+                    .map(carry_out)
                     .collect()
             })
         };
@@ -234,13 +230,14 @@ impl EpisodeBatch {
     }
 }
 
+/// One episode's share of a run: the episode, its command, its map rows, its proprio row.
+type Task<'a> = (
+    ((&'a mut Episode, &'a Command), &'a mut [u8]),
+    &'a mut [f32],
+);
+
 /// Carries out one episode's command and writes its observation rows.
-fn carry_out(
-    episode: &mut Episode,
-    command: Command,
-    map: &mut [u8],
-    proprio: &mut [f32],
-) -> Result<(), EpisodeError> {
+fn carry_out((((episode, &command), map), proprio): Task<'_>) -> Result<(), EpisodeError> {
     match command {
         Command::Step(action) => {
             episode.advance(action)?;
