@@ -1,9 +1,10 @@
 """Short seeded rollouts of every env face, reduced to arrays, for the pinned-rollout test.
 
 ``python tests/rollouts.py --out tests/data/rollouts.npz`` records them; the file in the repo
-was recorded on commit ab7be5a (before the copy-free step path), so
-``tests/test_rollouts_pinned.py`` checks that the step path still gives the same
-observations, rewards and infos bit for bit. Runs against the old and the new API alike.
+was recorded on commit 5c0301c (the base ab7be5a with its lib.rs fixed to build; no
+behaviour changed), before the copy-free step path, so ``tests/test_rollouts_pinned.py``
+checks that the step path still gives the same observations, rewards and infos bit for
+bit. Runs against the old and the new API alike.
 """
 
 from __future__ import annotations
