@@ -73,13 +73,14 @@ def run_policy(mode: str, policy: str, steps: int, seed: int) -> dict[str, float
 
 
 def vector_speedup(
-    mode: str, num_envs: int, steps: int, rounds: int = 3, **kwargs: object
+    mode: str, num_envs: int, steps: int, rounds: int = 12, **kwargs: object
 ) -> dict[int | None, dict[str, float]]:
     """Steps/s of one batch of ``num_envs`` on 1 thread (key 1) and on every core (key
-    None), medians of ``rounds`` alternating rounds (the machine is shared: alternation
-    spreads its noise over both). Where the batch reports the time its episodes' work took
-    with the GIL released (``parallel_seconds``), also the ms per batch step of that
-    parallel part and of the serial rest. ``kwargs`` go to the vector env (``copy=False``)."""
+    None), medians of ``rounds`` short alternating rounds of ``steps / rounds`` batch steps
+    (the machine is shared: fine alternation spreads its load swings over both). Where the
+    batch reports the time its episodes' work took with the GIL released
+    (``parallel_seconds``), also the ms per batch step of that parallel part and of the
+    serial rest. ``kwargs`` go to the vector env (``copy=False``)."""
     envs = {
         threads: CupboardSearchVectorEnv(num_envs=num_envs, threads=threads, map=mode, **kwargs)
         for threads in (1, None)
@@ -92,16 +93,16 @@ def vector_speedup(
     for _ in range(rounds):
         for threads, vector in envs.items():
             rng = np.random.default_rng(0)
-            actions = [rng.uniform(-1, 1, (num_envs, 3)) for _ in range(steps)]
+            actions = [rng.uniform(-1, 1, (num_envs, 3)) for _ in range(steps // rounds)]
             inside = getattr(vector._batch, "parallel_seconds", float("nan"))
             start = time.perf_counter()
             for action in actions:
                 vector.step(action)
             total = time.perf_counter() - start
             inside = getattr(vector._batch, "parallel_seconds", float("nan")) - inside
-            samples[threads]["rate"].append(num_envs * steps / total)
-            samples[threads]["parallel_ms"].append(1e3 * inside / steps)
-            samples[threads]["serial_ms"].append(1e3 * (total - inside) / steps)
+            samples[threads]["rate"].append(num_envs * len(actions) / total)
+            samples[threads]["parallel_ms"].append(1e3 * inside / len(actions))
+            samples[threads]["serial_ms"].append(1e3 * (total - inside) / len(actions))
     return {
         t: {k: statistics.median(v) for k, v in by_key.items()} for t, by_key in samples.items()
     }
@@ -167,7 +168,7 @@ def main(argv: list[str] | None = None) -> None:
             variants.append((", copy=False", {"copy": False}))
         for num_envs in args.num_envs:
             for label, kwargs in variants:
-                steps = max(args.steps // num_envs, 50)
+                steps = max(2 * args.steps // num_envs, 120)
                 r = vector_speedup(mode, num_envs, steps, **kwargs)
                 one, every = r[1], r[None]
                 print(
