@@ -78,10 +78,9 @@ def make_training_env(
 
     from tactile_search.envs.sb3_vec_env import CupboardSearchSb3VecEnv
 
-    max_steps = gym.spec(env_id).max_episode_steps
+    # The time limit is the env's own `max_steps` (in env_kwargs or the core's default).
     venv = CupboardSearchSb3VecEnv(
         num_envs=n_envs,
-        max_episode_steps=max_steps,
         seed=seed,
         layout_seeds=TRAIN_LAYOUT_SEEDS,
         **env_kwargs,

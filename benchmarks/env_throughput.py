@@ -7,14 +7,18 @@ Prints, per map mode (gpis, occupancy, none):
 - median step time by step index bucket (it must stay flat as the GPIS grows);
 - resident memory added per env (16 envs built, reset and stepped after the baseline);
 and the speed-up of the vector env (one Rust batch on all cores) over the same batch on one
-thread. The machine is shared and noisy: compare medians and ratios from one run.
+thread, for 8 and 16 envs (medians of alternating rounds; with ``copy=False`` too where the
+env has it). The machine is shared and noisy: compare medians and ratios from one run.
 
-Usage: ``python benchmarks/env_throughput.py [--steps 3000] [--modes gpis none]``
+Usage: ``python benchmarks/env_throughput.py [--steps 3000] [--modes gpis none]
+[--num-envs 8 16] [--vector-only]``
 """
 
 from __future__ import annotations
 
 import argparse
+import inspect
+import multiprocessing
 import os
 import statistics
 import time
@@ -68,18 +72,63 @@ def run_policy(mode: str, policy: str, steps: int, seed: int) -> dict[str, float
     }
 
 
-def vector_speedup(mode: str, num_envs: int, steps: int) -> tuple[float, float]:
-    """Steps/s of one batch of ``num_envs`` on 1 thread and on every core."""
-    rates = []
-    for threads in (1, None):
-        vector = CupboardSearchVectorEnv(num_envs=num_envs, threads=threads, map=mode)
+def vector_speedup(
+    mode: str, num_envs: int, steps: int, rounds: int = 12, **kwargs: object
+) -> dict[int | None, dict[str, float]]:
+    """Steps/s of one batch of ``num_envs`` on 1 thread (key 1) and on every core (key
+    None), medians of ``rounds`` short alternating rounds of ``steps / rounds`` batch steps
+    (the machine is shared: fine alternation spreads its load swings over both). Where the
+    batch reports the time its episodes' work took with the GIL released
+    (``parallel_seconds``), also the ms per batch step of that parallel part and of the
+    serial rest. ``kwargs`` go to the vector env (``copy=False``)."""
+    envs = {
+        threads: CupboardSearchVectorEnv(num_envs=num_envs, threads=threads, map=mode, **kwargs)
+        for threads in (1, None)
+    }
+    samples: dict[int | None, dict[str, list[float]]] = {
+        t: {"rate": [], "parallel_ms": [], "serial_ms": []} for t in envs
+    }
+    for vector in envs.values():
         vector.reset(seed=0)
-        rng = np.random.default_rng(0)
-        start = time.perf_counter()
-        for _ in range(steps):
-            vector.step(rng.uniform(-1, 1, (num_envs, 3)))
-        rates.append(num_envs * steps / (time.perf_counter() - start))
-    return rates[0], rates[1]
+    for _ in range(rounds):
+        for threads, vector in envs.items():
+            rng = np.random.default_rng(0)
+            actions = [rng.uniform(-1, 1, (num_envs, 3)) for _ in range(steps // rounds)]
+            inside = getattr(vector._batch, "parallel_seconds", float("nan"))
+            start = time.perf_counter()
+            for action in actions:
+                vector.step(action)
+            total = time.perf_counter() - start
+            inside = getattr(vector._batch, "parallel_seconds", float("nan")) - inside
+            samples[threads]["rate"].append(num_envs * len(actions) / total)
+            samples[threads]["parallel_ms"].append(1e3 * inside / len(actions))
+            samples[threads]["serial_ms"].append(1e3 * (total - inside) / len(actions))
+    return {
+        t: {k: statistics.median(v) for k, v in by_key.items()} for t, by_key in samples.items()
+    }
+
+
+def _burn(count: int) -> float:
+    """CPU-bound work of a known size; returns its wall-clock seconds."""
+    start = time.perf_counter()
+    total = 0
+    for i in range(count):
+        total += i * i
+    return time.perf_counter() - start
+
+
+def free_cores(count: int = 3_000_000, rounds: int = 3) -> float:
+    """How many cores this process can get right now: the work two processes do at once
+    over the work one does alone in the same time (2.0 on two idle cores). The control for
+    the vector env's speed-up on a machine shared with other jobs."""
+    ratios = []
+    with multiprocessing.get_context("spawn").Pool(2) as pool:
+        pool.map(_burn, [1000, 1000])  # start both workers
+        for _ in range(rounds):
+            alone = pool.apply(_burn, (count,))
+            together = max(pool.map(_burn, [count, count]))
+            ratios.append(2 * alone / together)
+    return statistics.median(ratios)
 
 
 def memory_per_env(mode: str, count: int = 16) -> float:
@@ -98,12 +147,14 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=3000, help="steps per measurement")
     parser.add_argument("--modes", nargs="+", default=["gpis", "occupancy", "none"])
-    parser.add_argument("--num-envs", type=int, default=8, help="vector env size")
+    parser.add_argument("--num-envs", type=int, nargs="+", default=[8, 16], help="vector env sizes")
+    parser.add_argument("--vector-only", action="store_true", help="only the vector env speed-ups")
     args = parser.parse_args(argv)
     print(f"cores: {os.cpu_count()}; shared, noisy machine: medians from one run")
+    print(f"control: two CPU-bound processes get {free_cores():.2f}x the work of one")
     for mode in args.modes:
         print(f"\n== map={mode}")
-        for policy in ("random", "oracle"):
+        for policy in () if args.vector_only else ("random", "oracle"):
             r = run_policy(mode, policy, args.steps, seed=0)
             flat = " ".join(f"{25 * k}+:{v:.2f}" for k, v in r["by_index"].items())
             print(
@@ -112,12 +163,29 @@ def main(argv: list[str] | None = None) -> None:
                 f"median reset {r['reset_ms']:.1f} ms"
             )
             print(f"          median step ms by step index: {flat}")
-        one, every = vector_speedup(mode, args.num_envs, max(args.steps // args.num_envs, 50))
-        print(
-            f"  vector env ({args.num_envs} envs): {one:.0f} steps/s on 1 thread, "
-            f"{every:.0f} on all cores, speed-up {every / one:.2f}x"
-        )
-        print(f"  resident memory added per env: {memory_per_env(mode):.2f} MiB")
+        variants: list[tuple[str, dict]] = [("", {})]
+        if "copy" in inspect.signature(CupboardSearchVectorEnv.__init__).parameters:
+            variants.append((", copy=False", {"copy": False}))
+        for num_envs in args.num_envs:
+            for label, kwargs in variants:
+                steps = max(2 * args.steps // num_envs, 120)
+                r = vector_speedup(mode, num_envs, steps, **kwargs)
+                one, every = r[1], r[None]
+                print(
+                    f"  vector env ({num_envs} envs{label}): {one['rate']:.0f} steps/s on 1 "
+                    f"thread, {every['rate']:.0f} on all cores, "
+                    f"speed-up {every['rate'] / one['rate']:.2f}x"
+                )
+                if not np.isnan(one["parallel_ms"]):
+                    print(
+                        f"          per batch step: parallel part {one['parallel_ms']:.2f} ms "
+                        f"on 1 thread, {every['parallel_ms']:.2f} ms on all cores "
+                        f"({one['parallel_ms'] / every['parallel_ms']:.2f}x); serial part "
+                        f"{one['serial_ms']:.3f} / {every['serial_ms']:.3f} ms"
+                    )
+        if not args.vector_only:
+            print(f"  resident memory added per env: {memory_per_env(mode):.2f} MiB")
+    print(f"control: two CPU-bound processes get {free_cores():.2f}x the work of one")
 
 
 if __name__ == "__main__":

@@ -27,7 +27,7 @@ def test_sb3_vec_env_is_an_sb3_vec_env_that_ppo_trains_on() -> None:
 
     from tactile_search.envs.sb3_vec_env import CupboardSearchSb3VecEnv
 
-    env = CupboardSearchSb3VecEnv(num_envs=2, max_episode_steps=20, seed=0)
+    env = CupboardSearchSb3VecEnv(num_envs=2, max_steps=20, seed=0)
     assert isinstance(env, VecEnv)
     model = sb3.PPO("MultiInputPolicy", env, n_steps=32, batch_size=32, n_epochs=1, seed=0)
     model.learn(total_timesteps=64)
@@ -37,9 +37,11 @@ def test_sb3_vec_env_is_an_sb3_vec_env_that_ppo_trains_on() -> None:
 def test_sb3_vec_env_resets_in_the_step_that_ends_an_episode() -> None:
     import numpy as np
 
+    from tactile_search.envs.observation import PROPRIO
     from tactile_search.envs.sb3_vec_env import CupboardSearchSb3VecEnv
 
-    env = CupboardSearchSb3VecEnv(num_envs=2, max_episode_steps=3, seed=1, map="none")
+    time_left = PROPRIO["time_left"]
+    env = CupboardSearchSb3VecEnv(num_envs=2, max_steps=3, seed=1, map="none")
     first = env.reset()
     for _ in range(3):
         observation, rewards, dones, infos = env.step(np.zeros((2, 3)))
@@ -47,5 +49,5 @@ def test_sb3_vec_env_resets_in_the_step_that_ends_an_episode() -> None:
     for index in range(2):
         assert infos[index]["TimeLimit.truncated"]
         terminal = infos[index]["terminal_observation"]["proprio"]
-        assert terminal[-1] < first["proprio"][index][-1]  # less time left at the end
-        assert observation["proprio"][index][-1] == 1.0  # a fresh episode: all time left
+        assert terminal[time_left] == 0.0 < first["proprio"][index][time_left]  # time is up
+        assert observation["proprio"][index][time_left] == 1.0  # a fresh episode: all left

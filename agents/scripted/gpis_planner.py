@@ -31,6 +31,7 @@ import numpy as np
 from agents.scripted.geometry import Geometry
 from agents.scripted.search_map import SearchMap, distance_to
 from tactile_search import CupboardSearchEnv
+from tactile_search.envs.observation import PROPRIO
 
 # Clearance kept between the wrist or arm and a cell that may hold a jar, m.
 MARGIN = 0.004
@@ -152,14 +153,16 @@ class GpisPlanner:
     def _pose(self, proprio: np.ndarray) -> Pose:
         g = self.geometry
         (x0, x1), (y0, y1) = g.workspace
-        x = x0 + (float(proprio[0]) + 1.0) * 0.5 * (x1 - x0)
-        y = y0 + (float(proprio[1]) + 1.0) * 0.5 * (y1 - y0)
-        yaw = float(np.arctan2(proprio[3], proprio[2]))
-        deflection = float(proprio[4]) * g.finger_limit
+        p = PROPRIO  # entry indices by name, from the core's observation layout
+        x = x0 + (float(proprio[p["x"]]) + 1.0) * 0.5 * (x1 - x0)
+        y = y0 + (float(proprio[p["y"]]) + 1.0) * 0.5 * (y1 - y0)
+        yaw = float(np.arctan2(proprio[p["sin_yaw"]], proprio[p["cos_yaw"]]))
+        deflection = float(proprio[p["deflection"]]) * g.finger_limit
         contact = normal = None
-        if proprio[5] > 0.5:
-            contact = self._contact_point(x, y, yaw + deflection, yaw, proprio[6:8])
-            normal = np.asarray(proprio[8:10], float)
+        if proprio[p["in_contact"]] > 0.5:
+            offset = proprio[[p["contact_dx"], p["contact_dy"]]]
+            contact = self._contact_point(x, y, yaw + deflection, yaw, offset)
+            normal = np.asarray(proprio[[p["normal_x"], p["normal_y"]]], float)
         return Pose(x, y, yaw, deflection, contact, normal)
 
     def _contact_point(

@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from agents.scripted.geometry import Geometry
+from tactile_search.envs.observation import MAP_CHANNELS
 
 # Angular resolution of the shadow sweep, rad.
 ANGLE_BIN = 0.004
@@ -36,8 +37,8 @@ SOLID_STD = 0.02
 def decode_map(image: np.ndarray, geometry: Geometry) -> tuple[np.ndarray, np.ndarray]:
     """GPIS ``(mean, std)``, each ``(H, W)`` in metres, from the uint8 ``(2, H, W)`` map."""
     pixels = image.astype(np.float64)
-    mean = (pixels[0] - 128.0) / 127.0 * geometry.mean_scale
-    std = pixels[1] / 255.0 * geometry.std_scale
+    mean = (pixels[MAP_CHANNELS["gpis", "mean"]] - 128.0) / 127.0 * geometry.mean_scale
+    std = pixels[MAP_CHANNELS["gpis", "std"]] / 255.0 * geometry.std_scale
     return mean, std
 
 

@@ -1,7 +1,7 @@
 //! Episodes are deterministic, finite, solvable, and the batch equals single episodes.
 
 use env_core::episode::{
-    oracle_action, Episode, EpisodeBatch, EpisodeConfig, EpisodeError, MapMode, StepInfo,
+    oracle_action, Command, Episode, EpisodeBatch, EpisodeConfig, EpisodeError, MapMode, StepInfo,
     PROPRIO_LEN,
 };
 use env_core::settings::SettingError;
@@ -140,52 +140,99 @@ fn touch_adds_rows_to_the_map_and_the_map_tracks_the_jars() {
 fn the_batch_equals_single_episodes_whatever_the_thread_count() {
     for mode in [MapMode::Gpis, MapMode::None] {
         let seeds = [0, 1, 2];
-        let mut singles: Vec<Episode> = seeds
-            .iter()
-            .map(|&s| Episode::new(config(mode), s).unwrap())
-            .collect();
-        let mut batch = EpisodeBatch::new(config(mode), &seeds, Some(2)).unwrap();
-        let map_len = singles[0].map_len();
-        let mut maps = vec![0u8; seeds.len() * map_len];
-        let mut proprio = vec![0f32; seeds.len() * PROPRIO_LEN];
-        for step in 0..15 {
-            let actions: Vec<[f64; 3]> = singles
+        for threads in [1, 2] {
+            let mut singles: Vec<Episode> = seeds
                 .iter()
-                .map(|e| oracle_action(e).map(|v| 0.7 * v))
+                .map(|&s| Episode::new(config(mode), s).unwrap())
                 .collect();
-            let requested: Vec<_> = actions.iter().copied().map(Some).collect();
-            let results = batch.step(&requested, &mut maps, &mut proprio).unwrap();
-            for (i, episode) in singles.iter_mut().enumerate() {
-                let single = episode.step(actions[i]);
-                assert_eq!(
-                    Some(single),
-                    results[i].clone(),
-                    "mode {mode:?}, step {step}, episode {i}"
-                );
-                let (map, own) = observe(episode);
-                assert_eq!(map, maps[i * map_len..(i + 1) * map_len]);
-                assert_eq!(own, proprio[i * PROPRIO_LEN..(i + 1) * PROPRIO_LEN]);
+            let mut batch = EpisodeBatch::new(config(mode), &seeds, Some(threads)).unwrap();
+            let map_len = singles[0].map_len();
+            let mut maps = vec![0u8; seeds.len() * map_len];
+            let mut proprio = vec![0f32; seeds.len() * PROPRIO_LEN];
+            for step in 0..15 {
+                let actions: Vec<[f64; 3]> = singles
+                    .iter()
+                    .map(|e| oracle_action(e).map(|v| 0.7 * v))
+                    .collect();
+                let commands: Vec<_> = actions.iter().copied().map(Command::Step).collect();
+                let outcome = batch.run(&commands, &mut maps, &mut proprio);
+                let mut failed = false;
+                for (i, episode) in singles.iter_mut().enumerate() {
+                    let Ok(single) = episode.step(actions[i]) else {
+                        failed = true;
+                        continue;
+                    };
+                    let context = format!("mode {mode:?}, threads {threads}, step {step}, {i}");
+                    assert_eq!(&single, batch.episodes()[i].last_info(), "{context}");
+                    let (map, own) = observe(episode);
+                    assert_eq!(map, maps[i * map_len..(i + 1) * map_len], "{context}");
+                    assert_eq!(own, proprio[i * PROPRIO_LEN..(i + 1) * PROPRIO_LEN]);
+                }
+                assert_eq!(outcome.is_err(), failed);
+                if failed {
+                    break;
+                }
             }
         }
     }
 }
 
 #[test]
-fn a_batch_leaves_episodes_without_an_action_untouched() {
-    let seeds = [4, 5];
+fn a_batch_leaves_held_episodes_untouched_and_resets_only_those_it_is_told_to() {
+    let seeds = [4, 5, 6];
     let mut batch = EpisodeBatch::new(config(MapMode::Gpis), &seeds, Some(2)).unwrap();
-    let map_len = batch.episodes()[0].map_len();
-    let mut maps = vec![0u8; 2 * map_len];
-    let mut proprio = vec![0f32; 2 * PROPRIO_LEN];
+    let map_len = batch.map_len();
+    let mut maps = vec![0u8; 3 * map_len];
+    let mut proprio = vec![0f32; 3 * PROPRIO_LEN];
     batch.write_observations(&mut maps, &mut proprio).unwrap();
-    let before = maps[map_len..].to_vec();
-    let results = batch
-        .step(&[Some([1.0, 1.0, 0.0]), None], &mut maps, &mut proprio)
-        .unwrap();
-    assert!(matches!(results[0], Some(Ok(_))));
-    assert!(results[1].is_none());
+    let held = maps[map_len..2 * map_len].to_vec();
+    let commands = [
+        Command::Step([1.0, 1.0, 0.0]),
+        Command::Hold,
+        Command::Reset(9),
+    ];
+    batch.run(&commands, &mut maps, &mut proprio).unwrap();
+    assert_eq!(batch.episodes()[0].last_info().steps, 1);
     assert_eq!(batch.episodes()[1].last_info().steps, 0);
-    assert_eq!(maps[map_len..], before[..]);
+    assert_eq!(maps[map_len..2 * map_len], held[..]);
+    let fresh = Episode::new(config(MapMode::Gpis), 9).unwrap();
+    let (map, own) = observe(&fresh);
+    assert_eq!(map, maps[2 * map_len..]);
+    assert_eq!(own, proprio[2 * PROPRIO_LEN..]);
+}
+
+#[test]
+fn a_non_finite_action_in_a_batch_moves_no_episode() {
+    let mut batch = EpisodeBatch::new(config(MapMode::None), &[1, 2], Some(2)).unwrap();
+    let mut proprio = vec![0f32; 2 * PROPRIO_LEN];
+    let commands = [
+        Command::Step([0.5, 0.5, 0.0]),
+        Command::Step([0.0, f64::NAN, 0.0]),
+    ];
+    let error = batch.run(&commands, &mut [], &mut proprio).unwrap_err();
+    assert!(
+        matches!(error, EpisodeError::InEpisode { index: 1, .. }),
+        "{error}"
+    );
+    assert!(error
+        .to_string()
+        .contains("episode 1: action[1] must be finite"));
+    assert!(batch.episodes().iter().all(|e| e.last_info().steps == 0));
+}
+
+#[test]
+fn an_episode_truncates_when_its_steps_reach_max_steps() {
+    let mut short = config(MapMode::None);
+    short.max_steps = 4;
+    let mut episode = Episode::new(short, 2).unwrap();
+    let mut flags = Vec::new();
+    for _ in 0..6 {
+        let info = episode.step([0.0; 3]).unwrap();
+        flags.push(info.truncated);
+    }
+    // Stepping on after the limit is allowed (time_left floors at -1) and stays truncated.
+    assert_eq!(flags, [false, false, false, true, true, true]);
+    assert!(!episode.last_info().terminated);
 }
 
 #[test]

@@ -12,12 +12,12 @@ from tactile_search.gpis import Gpis
 
 __all__ = ["CupboardSearchEnv", "CupboardSearchVectorEnv", "Gpis", "__version__"]
 
-MAX_EPISODE_STEPS = 200
-
+# No max_episode_steps: the time limit is the episode's own `max_steps` (default from the
+# core), reported by the core as `truncated`, so `gymnasium.make(..., max_steps=N)` truncates
+# at N in the single and the vector envs alike; a registered limit would be a second one.
 if "tactile_search/CupboardSearch-v0" not in gymnasium.registry:
     gymnasium.register(
         id="tactile_search/CupboardSearch-v0",
         entry_point="tactile_search.envs.cupboard_search:CupboardSearchEnv",
         vector_entry_point="tactile_search.envs.vector:CupboardSearchVectorEnv",
-        max_episode_steps=MAX_EPISODE_STEPS,
     )

@@ -1,82 +1,86 @@
 //! `_core.EpisodeBatch`: N mechanical-search episodes stepped in parallel without the GIL.
-//! The single environment uses a batch of one; the vector environment a batch of N.
+//! The single environment uses a batch of one; the vector environments a batch of N.
+//!
+//! A step converts the actions once, releases the GIL while every episode steps (or
+//! resets) and writes its observation straight into the batch's numpy arrays
+//! ([`BatchArrays`], allocated once), then writes rewards, flags and the info columns in
+//! place: no staging buffer, no per-step array or per-env dict.
 
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
+use std::time::Instant;
+
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
+use super::actions::action_rows;
+use super::batch_arrays::BatchArrays;
 use super::convert::seed_of;
-use super::errors::{episode_error, episode_index_error, wrong_shape, wrong_type, wrong_value};
+use super::errors::{episode_error, episode_index_error, wrong_type, wrong_value};
 use super::settings::{config_dict, config_from, describe};
-use crate::episode::{oracle_action, EpisodeBatch, EpisodeConfig, MapMode, StepInfo, PROPRIO_LEN};
+use super::step_info::info_dict;
+use crate::episode::{
+    oracle_action, Command, EpisodeBatch, EpisodeConfig, EpisodeError, MapMode, PROPRIO_LEN,
+};
 use crate::scene::JarShape;
 use crate::settings::Choice;
-
-fn info_dict<'py>(py: Python<'py>, info: &StepInfo) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("reward_success", info.reward_success)?;
-    d.set_item("reward_step", info.reward_step)?;
-    d.set_item("reward_displacement", info.reward_displacement)?;
-    d.set_item("reward_tip", info.reward_tip)?;
-    d.set_item("reward_approach", info.reward_approach)?;
-    d.set_item("target_distance", info.target_distance)?;
-    d.set_item("success", info.success)?;
-    d.set_item("tipped", info.tipped)?;
-    d.set_item("steps", info.steps)?;
-    d.set_item("jar_displacement", info.jar_displacement)?;
-    d.set_item("max_jar_displacement", info.max_jar_displacement)?;
-    d.set_item("max_tilt", info.max_tilt)?;
-    d.set_item("tips", info.tips)?;
-    d.set_item("contacts", info.contacts)?;
-    d.set_item("rows_added", info.rows_added)?;
-    d.set_item("contacts_skipped", info.contacts_skipped)?;
-    d.set_item("contacts_dropped", info.contacts_dropped)?;
-    d.set_item("gpis_rows", info.gpis_rows)?;
-    d.set_item("iou", info.iou)?;
-    d.set_item("clipped", info.clipped)?;
-    d.set_item("blocked", info.blocked)?;
-    Ok(d)
-}
 
 /// N episodes with one configuration (see `tactile_search.CupboardSearchEnv`).
 #[pyclass(name = "EpisodeBatch", module = "tactile_search._core")]
 pub struct PyEpisodeBatch {
     inner: EpisodeBatch,
     config: EpisodeConfig,
-    maps: Vec<u8>,
-    proprio: Vec<f32>,
+    arrays: BatchArrays,
+    /// Wall-clock seconds spent with the GIL released in the episodes' work (benchmarks
+    /// read it to split a step into its parallel and serial parts).
+    parallel_seconds: f64,
 }
 
 impl PyEpisodeBatch {
-    fn map_shape(&self) -> Option<[usize; 4]> {
-        let (h, w) = self.config.map.grid_shape;
-        (self.config.map.mode != MapMode::None).then_some([self.inner.len(), 2, h, w])
-    }
-
-    fn observation<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(Option<Bound<'py, PyAny>>, Bound<'py, PyAny>)> {
-        let maps = match self.map_shape() {
-            Some(shape) => Some(
-                PyArray1::from_slice(py, &self.maps)
-                    .reshape(shape)?
-                    .into_any(),
-            ),
-            None => None,
-        };
-        let proprio = PyArray1::from_slice(py, &self.proprio)
-            .reshape([self.inner.len(), PROPRIO_LEN])?
-            .into_any();
-        Ok((maps, proprio))
-    }
-
     fn episode_index(&self, index: usize) -> PyResult<usize> {
         if index < self.inner.len() {
             Ok(index)
         } else {
             Err(episode_index_error(index, self.inner.len()))
         }
+    }
+
+    /// Runs `commands` with the GIL released, writing observations in place, then the
+    /// results (all episodes', or only episode `only`'s).
+    fn run(&mut self, py: Python<'_>, commands: &[Command], only: Option<usize>) -> PyResult<()> {
+        let inner = &mut self.inner;
+        let started = Instant::now();
+        let ran = self.arrays.with_observation(py, |maps, proprio| {
+            py.detach(|| inner.run(commands, maps, proprio))
+        });
+        self.parallel_seconds += started.elapsed().as_secs_f64();
+        ran??;
+        self.arrays.write_results(py, &self.inner, commands, only)
+    }
+
+    /// Turns the commands of `resets`, a list of (index, seed), into resets.
+    fn set_resets(&self, commands: &mut [Command], resets: &Bound<'_, PyAny>) -> PyResult<()> {
+        const EXPECTED: &str = "a list of (index, seed) pairs";
+        for pair in resets
+            .try_iter()
+            .map_err(|_| wrong_type("resets", EXPECTED, resets))?
+        {
+            let (index, seed): (usize, Bound<'_, PyAny>) = pair?
+                .extract()
+                .map_err(|_| wrong_type("resets", EXPECTED, resets))?;
+            commands[self.episode_index(index)?] = Command::Reset(seed_of(&seed)?);
+        }
+        Ok(())
+    }
+
+    /// Episode `index`'s observation as a dict of fresh arrays (a copy of its rows).
+    fn observation_of<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyDict>> {
+        let (maps, proprio) = self.arrays.observation(py);
+        let d = PyDict::new(py);
+        if let Some(maps) = maps {
+            d.set_item("map", maps.get_item(index)?.call_method0("copy")?)?;
+        }
+        d.set_item("proprio", proprio.get_item(index)?.call_method0("copy")?)?;
+        Ok(d)
     }
 }
 
@@ -117,17 +121,18 @@ impl PyEpisodeBatch {
             .detach(|| EpisodeBatch::new(built, &seeds, threads))
             .map_err(|e| episode_error(0, e))?;
         let n = inner.len();
-        let map_len = inner.episodes()[0].map_len();
-        let mut batch = Self {
+        let map = (config.map.mode != MapMode::None).then_some(config.map.grid_shape);
+        let batch = Self {
             inner,
             config,
-            maps: vec![0; n * map_len],
-            proprio: vec![0.0; n * PROPRIO_LEN],
+            arrays: BatchArrays::new(py, n, map)?,
+            parallel_seconds: 0.0,
         };
-        batch
-            .inner
-            .write_observations(&mut batch.maps, &mut batch.proprio)
-            .map_err(|e| episode_error(0, e))?;
+        batch.arrays.with_observation(py, |maps, proprio| {
+            batch.inner.write_observations(maps, proprio)
+        })??;
+        let holds = vec![Command::Hold; n];
+        batch.arrays.write_results(py, &batch.inner, &holds, None)?;
         Ok(batch)
     }
 
@@ -156,99 +161,112 @@ impl PyEpisodeBatch {
         config_dict(py, &self.config)
     }
 
-    /// Resets episode `index` to `seed`; returns its (map or None, proprio) observation.
-    fn reset<'py>(
-        &mut self,
-        py: Python<'py>,
-        index: usize,
-        seed: &Bound<'py, PyAny>,
-    ) -> PyResult<(Option<Bound<'py, PyAny>>, Bound<'py, PyAny>)> {
+    /// Resets episode `index` to `seed` (the GIL released) and writes only its entries of
+    /// the batch's arrays (observation, reward 0, flags False, the reset's info).
+    fn reset(&mut self, py: Python<'_>, index: usize, seed: &Bound<'_, PyAny>) -> PyResult<()> {
         let index = self.episode_index(index)?;
         let seed = seed_of(seed)?;
-        let inner = &mut self.inner;
-        py.detach(|| inner.reset(index, seed))
-            .map_err(|e| episode_error(index, e))?;
-        self.inner
-            .write_observations(&mut self.maps, &mut self.proprio)
-            .map_err(|e| episode_error(index, e))?;
-        self.observation(py)
+        let mut commands = vec![Command::Hold; self.inner.len()];
+        commands[index] = Command::Reset(seed);
+        self.run(py, &commands, Some(index))
     }
 
-    /// The current observations: maps (N, 2, H, W) uint8 or None, proprio (N, 11) float32.
-    fn observe<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(Option<Bound<'py, PyAny>>, Bound<'py, PyAny>)> {
-        self.observation(py)
+    /// Resets the episodes of `resets`, a list of (index, seed), in parallel (the GIL
+    /// released) and writes their entries of the batch's arrays.
+    fn reset_many(&mut self, py: Python<'_>, resets: &Bound<'_, PyAny>) -> PyResult<()> {
+        let mut commands = vec![Command::Hold; self.inner.len()];
+        self.set_resets(&mut commands, resets)?;
+        self.run(py, &commands, None)
     }
 
-    /// Steps every episode with its row of `actions` (N, 3) in [-1, 1] (clipped); returns
-    /// (maps, proprio, rewards (N,), terminated (N,), infos). Where `active` (N,) bool is
-    /// given and False, the episode is not stepped (the vector env's autoreset): its reward
-    /// is 0, terminated False and its info that of its reset. Raises `ValueError` naming the
-    /// episode if any step failed (a non-finite action, a step after termination).
+    /// The batch's observation arrays: maps (N, 2, H, W) uint8 or None, proprio (N, 11)
+    /// float32. The same arrays every call, overwritten by every step and reset.
+    fn observe<'py>(&self, py: Python<'py>) -> (Option<Bound<'py, PyAny>>, Bound<'py, PyAny>) {
+        self.arrays.observation(py)
+    }
+
+    /// Episode `index`'s observation as a dict of fresh arrays (`"map"`, `"proprio"`).
+    fn observation<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyDict>> {
+        let index = self.episode_index(index)?;
+        self.observation_of(py, index)
+    }
+
+    /// Steps every episode with its row of `actions` (N, 3) in [-1, 1] (clipped), except
+    /// the episodes of `resets` (a list of (index, seed)), which start over instead (the
+    /// vector env's autoreset: reward 0, flags False, the reset's info). Returns (maps,
+    /// proprio, rewards (N,), terminated (N,), truncated (N,), info): the batch's own arrays,
+    /// written in place and overwritten by the next step or reset; info is a dict of one
+    /// array (N,) per key of `step_info_fields()`. Raises `ValueError` for actions of the
+    /// wrong shape or not finite (before any episode moves) and names the episode of a
+    /// failed step (a step after termination).
     #[allow(clippy::type_complexity)]
-    #[pyo3(signature = (actions, active = None))]
+    #[pyo3(signature = (actions, resets = None))]
     fn step<'py>(
         &mut self,
         py: Python<'py>,
-        actions: PyReadonlyArray2<'py, f64>,
-        active: Option<PyReadonlyArray1<'py, bool>>,
+        actions: &Bound<'py, PyAny>,
+        resets: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<(
         Option<Bound<'py, PyAny>>,
         Bound<'py, PyAny>,
         Bound<'py, PyArray1<f64>>,
         Bound<'py, PyArray1<bool>>,
-        Bound<'py, PyList>,
+        Bound<'py, PyArray1<bool>>,
+        Bound<'py, PyDict>,
     )> {
         let n = self.inner.len();
-        let view = actions.as_array();
-        if view.shape() != [n, 3] {
-            return Err(wrong_shape("actions", &format!("({n}, 3)"), view.shape()));
-        }
-        let active: Vec<bool> = match &active {
-            Some(mask) if mask.as_array().len() != n => {
-                return Err(wrong_shape(
-                    "active",
-                    &format!("({n},)"),
-                    mask.as_array().shape(),
-                ))
-            }
-            Some(mask) => mask.as_array().to_vec(),
-            None => vec![true; n],
-        };
-        let requested: Vec<Option<[f64; 3]>> = view
-            .rows()
+        let mut commands: Vec<Command> = action_rows("actions", actions, &[n, 3])?
             .into_iter()
-            .zip(&active)
-            .map(|(r, &on)| on.then_some([r[0], r[1], r[2]]))
+            .map(Command::Step)
             .collect();
-        let (inner, maps, proprio) = (&mut self.inner, &mut self.maps, &mut self.proprio);
-        let results = py
-            .detach(|| inner.step(&requested, maps, proprio))
-            .map_err(|e| episode_error(0, e))?;
-        let mut rewards = Vec::with_capacity(n);
-        let mut terminated = Vec::with_capacity(n);
-        let infos = PyList::empty(py);
-        for (index, result) in results.into_iter().enumerate() {
-            let (reward, ended, info) = match result {
-                Some(outcome) => {
-                    let info = outcome.map_err(|e| episode_error(index, e))?;
-                    (info.reward, info.terminated, info)
-                }
-                None => (0.0, false, *self.inner.episodes()[index].last_info()),
-            };
-            rewards.push(reward);
-            terminated.push(ended);
-            infos.append(info_dict(py, &info)?)?;
+        if let Some(resets) = resets {
+            self.set_resets(&mut commands, resets)?;
         }
-        let (maps, proprio) = self.observation(py)?;
+        self.run(py, &commands, None)?;
+        let (maps, proprio) = self.arrays.observation(py);
+        let (rewards, terminated, truncated, info) = self.arrays.results(py);
+        Ok((maps, proprio, rewards, terminated, truncated, info))
+    }
+
+    /// Steps a batch of one with `action` (3,) and returns gymnasium's step tuple for it:
+    /// (observation dict of fresh arrays, reward, terminated, truncated, info dict of
+    /// Python scalars).
+    #[allow(clippy::type_complexity)]
+    fn step_single<'py>(
+        &mut self,
+        py: Python<'py>,
+        action: &Bound<'py, PyAny>,
+    ) -> PyResult<(Bound<'py, PyDict>, f64, bool, bool, Bound<'py, PyDict>)> {
+        if self.inner.len() != 1 {
+            return Err(wrong_value(
+                "step_single's batch",
+                "one episode",
+                format!("{} episodes", self.inner.len()),
+            ));
+        }
+        let rows = action_rows("action", action, &[3])?;
+        let commands = [Command::Step(rows[0])];
+        let inner = &mut self.inner;
+        let started = Instant::now();
+        let stepped = self.arrays.with_observation(py, |maps, proprio| {
+            py.detach(|| inner.run(&commands, maps, proprio))
+        });
+        self.parallel_seconds += started.elapsed().as_secs_f64();
+        let stepped = stepped?;
+        // A batch of one: report the episode's own error, without "episode 0: ".
+        stepped.map_err(|e| match e {
+            EpisodeError::InEpisode { source, .. } => PyErr::from(*source),
+            other => PyErr::from(other),
+        })?;
+        self.arrays
+            .write_results(py, &self.inner, &commands, None)?;
+        let info = self.inner.episodes()[0].last_info();
         Ok((
-            maps,
-            proprio,
-            PyArray1::from_vec(py, rewards),
-            PyArray1::from_vec(py, terminated),
-            infos,
+            self.observation_of(py, 0)?,
+            info.reward,
+            info.terminated,
+            info.truncated,
+            info_dict(py, info)?,
         ))
     }
 
@@ -263,10 +281,26 @@ impl PyEpisodeBatch {
         PyArray1::from_vec(py, flat).reshape([self.inner.len(), 3])
     }
 
-    /// The metrics of episode `index`'s last reset or step, as the info dict.
+    /// The metrics of episode `index`'s last reset or step, as a dict of Python scalars.
     fn info<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyDict>> {
         let index = self.episode_index(index)?;
         info_dict(py, self.inner.episodes()[index].last_info())
+    }
+
+    /// The batch's info arrays: a dict of one array (N,) per key of `step_info_fields()`,
+    /// the same arrays every call, overwritten by every step and reset.
+    fn info_arrays<'py>(&self, py: Python<'py>) -> Bound<'py, PyDict> {
+        self.arrays.results(py).3
+    }
+
+    /// Every episode's info, as a list of dicts of Python scalars (stable-baselines3's
+    /// per-env `infos`).
+    fn infos<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let infos = PyList::empty(py);
+        for episode in self.inner.episodes() {
+            infos.append(info_dict(py, episode.last_info())?)?;
+        }
+        Ok(infos)
     }
 
     /// Ground truth and map of episode `index` for rendering: jars, hand, finger, contacts,
@@ -321,6 +355,13 @@ impl PyEpisodeBatch {
             d.set_item("occupancy", PyArray1::from_vec(py, p).reshape([h, w])?)?;
         }
         Ok(d)
+    }
+
+    /// Wall-clock seconds this batch has spent in its episodes' work with the GIL
+    /// released (steps, resets and their observations); the rest of a call is serial.
+    #[getter]
+    fn parallel_seconds(&self) -> f64 {
+        self.parallel_seconds
     }
 
     /// Number of episodes.

@@ -52,10 +52,19 @@ pub(crate) fn episode_error(index: usize, error: EpisodeError) -> PyErr {
     }
 }
 
+impl From<EpisodeError> for PyErr {
+    fn from(error: EpisodeError) -> Self {
+        // Every episode error is a bad value (configuration, action, a step after the end,
+        // a buffer of the wrong size); a batch's error names its episode itself.
+        PyValueError::new_err(error.to_string())
+    }
+}
+
 /// A `ValueError` for an array whose shape is not the one expected.
 pub(crate) fn wrong_shape(what: &str, expected: &str, got: &[usize]) -> PyErr {
     PyValueError::new_err(format!(
-        "{what} must have shape {expected}, got shape {got:?}"
+        "{what} must have shape {expected}, got shape {}",
+        shape_text(got)
     ))
 }
 
@@ -91,10 +100,13 @@ pub(crate) fn episode_index_error(index: usize, len: usize) -> PyErr {
     PyIndexError::new_err(format!("episode index must be in [0, {len}), got {index}"))
 }
 
-impl From<EpisodeError> for PyErr {
-    fn from(error: EpisodeError) -> Self {
-        // Episode errors outside a batch (the depth prior's settings and options) are bad
-        // values; the message names the setting, the value and the range expected.
-        PyValueError::new_err(error.to_string())
+/// A shape as Python writes it: `(3,)`, `(4, 3)`.
+pub(crate) fn shape_text(shape: &[usize]) -> String {
+    match shape {
+        [one] => format!("({one},)"),
+        _ => {
+            let dims: Vec<String> = shape.iter().map(usize::to_string).collect();
+            format!("({})", dims.join(", "))
+        }
     }
 }

@@ -10,15 +10,19 @@
 //! - one file per class: [`gpis`] (`GpisCore`), [`scene`] (`Scene`), [`episode`]
 //!   (`EpisodeBatch`).
 
+mod actions;
 mod arrays;
+mod batch_arrays;
 mod convert;
 mod episode;
 mod errors;
 mod geometry;
 mod gpis;
+mod observation;
 mod prior;
 mod scene;
 mod settings;
+mod step_info;
 
 use pyo3::prelude::*;
 
@@ -31,6 +35,8 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<episode::PyEpisodeBatch>()?;
     geometry::register(m)?;
     prior::register(m)?;
+    m.add_function(wrap_pyfunction!(observation::observation_layout, m)?)?;
+    m.add_function(wrap_pyfunction!(step_info::step_info_fields, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

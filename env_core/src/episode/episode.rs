@@ -4,75 +4,21 @@
 //! reset(seed): new layout, first depth look, GPIS prior from the depth slice, hand at the
 //! opening. step(action): scale and clip the wrist motion, step the scene (several physics
 //! substeps), add the new contacts to the map (skipping uninformative ones), then reward,
-//! termination and metrics.
+//! termination, truncation (the time limit `max_steps` is the episode's own) and metrics.
 
 use super::approach::{fingertip, ApproachField};
 use super::config::{EpisodeConfig, MapMode};
 use super::error::EpisodeError;
-use super::map_image::{encode_gpis, encode_occupancy};
 use super::metrics::{footprint_mask, iou};
+use super::observation::{encode_gpis, encode_occupancy, proprio, PROPRIO_LEN};
 use super::occupancy::OccupancyGrid;
 use super::prior::depth_prior;
+use super::step_info::StepInfo;
 use crate::gpis::{Gpis, GpisConfig, GridSpec};
 use crate::scene::{Contact, HandCommand, Scene};
 
 /// The target's footprint widened by this much counts as reached by the approach field, m.
 const APPROACH_CLEARANCE: f64 = 0.01;
-
-/// Length of the proprioception vector; see [`Episode::write_proprio`].
-pub const PROPRIO_LEN: usize = 11;
-
-/// What one step did: the reward term by term, the episode end, and the metrics.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct StepInfo {
-    /// Total reward: the sum of the five terms below.
-    pub reward: f64,
-    /// `reward.success` when the finger touched the target this step, else 0.
-    pub reward_success: f64,
-    /// `−reward.step_cost`.
-    pub reward_step: f64,
-    /// `−reward.displacement ·` the jar displacement added this step (m, summed over jars).
-    pub reward_displacement: f64,
-    /// `−reward.tip` when a jar tipped over this step, else 0.
-    pub reward_tip: f64,
-    /// `reward.approach ·` how much the fingertip's path distance to the target shrank
-    /// this step (potential-based shaping; 0 at the default weight).
-    pub reward_approach: f64,
-    /// The episode ended (success or a tipped jar).
-    pub terminated: bool,
-    /// The finger touched the target.
-    pub success: bool,
-    /// A jar tipped over.
-    pub tipped: bool,
-    /// Steps since reset.
-    pub steps: usize,
-    /// Planar displacement since reset, summed over jars, m.
-    pub jar_displacement: f64,
-    /// Largest jar displacement since reset, m.
-    pub max_jar_displacement: f64,
-    /// The fingertip's path distance to the target now, m (see [`super::approach`]).
-    pub target_distance: f64,
-    /// Largest jar tilt now, rad.
-    pub max_tilt: f64,
-    /// Jars tipped over now.
-    pub tips: usize,
-    /// Tactile readings this step.
-    pub contacts: usize,
-    /// GP rows the readings added.
-    pub rows_added: usize,
-    /// Readings skipped as uninformative (or rejected as degenerate).
-    pub contacts_skipped: usize,
-    /// Readings dropped because the map was full.
-    pub contacts_dropped: usize,
-    /// GP rows held.
-    pub gpis_rows: usize,
-    /// IoU of the map's interior against the true jar footprints (0 without a map).
-    pub iou: f64,
-    /// The action was outside [−1, 1] and was clipped.
-    pub clipped: bool,
-    /// A wall (or the workspace edge) stopped the hand.
-    pub blocked: bool,
-}
 
 /// One episode. Reusable: [`Episode::reset`] keeps the map's storage.
 pub struct Episode {
@@ -240,9 +186,13 @@ impl Episode {
     /// `max_step_translation` and `max_step_yaw`; components outside are clipped (and
     /// reported). Fails on a non-finite action or after the episode has ended.
     pub fn step(&mut self, action: [f64; 3]) -> Result<StepInfo, EpisodeError> {
-        if let Some((index, &value)) = action.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(EpisodeError::NonFiniteAction { index, value });
-        }
+        check_finite(&action)?;
+        self.advance(action)
+    }
+
+    /// [`Episode::step`] for an action already checked finite (the batch checks all of its
+    /// actions once, before stepping any).
+    pub(crate) fn advance(&mut self, action: [f64; 3]) -> Result<StepInfo, EpisodeError> {
         if self.ended {
             return Err(EpisodeError::Ended);
         }
@@ -270,6 +220,8 @@ impl Episode {
             + info.reward_tip
             + info.reward_approach;
         info.terminated = info.success || info.tipped;
+        // The time limit is the episode's own: what `max_steps` says is what truncates.
+        info.truncated = !info.terminated && self.steps >= self.config.max_steps;
         info.contacts = contacts;
         info.rows_added = rows_added;
         info.contacts_skipped = contacts_skipped;
@@ -289,7 +241,8 @@ impl Episode {
         }
     }
 
-    /// Writes the map image (2 × H × W, channel first; see [`super::map_image`]).
+    /// Writes the map image (2 × H × W, channel first; see
+    /// [`super::observation::MAP_CHANNELS`]).
     pub fn write_map(&self, out: &mut [u8]) -> Result<(), EpisodeError> {
         check_length("map", self.map_len(), out.len())?;
         let map = &self.config.map;
@@ -301,49 +254,10 @@ impl Episode {
         Ok(())
     }
 
-    /// Writes the proprioception and touch vector, all entries in [−1, 1]:
-    /// `[x, y, cos yaw, sin yaw, deflection, in_contact, contact_dx, contact_dy, normal_x,
-    /// normal_y, time_left]`. x and y are the wrist's position scaled to its workspace;
-    /// deflection is the finger angle over its limit; the contact entries are the first
-    /// reading's offset from the wrist (over the finger length) and its normal, zeros
-    /// without contact; time_left is 1 − steps / max_steps, floored at −1.
+    /// Writes the proprio vector (see [`super::observation::PROPRIO_FIELDS`]).
     pub fn write_proprio(&self, out: &mut [f32]) -> Result<(), EpisodeError> {
         check_length("proprio", PROPRIO_LEN, out.len())?;
-        let hand = &self.config.scene.hand;
-        let pose = self.scene.hand_pose();
-        let [[x0, x1], [y0, y1]] = hand.workspace;
-        let scaled = |v: f64, lo: f64, hi: f64| (2.0 * (v - lo) / (hi - lo) - 1.0).clamp(-1.0, 1.0);
-        let deflection = (self.scene.finger_angle() / hand.finger_limit).clamp(-1.0, 1.0);
-        let (in_contact, dx, dy, nx, ny) = match self.scene.contacts().first() {
-            Some(c) => {
-                let reach = hand.finger_length;
-                (
-                    1.0,
-                    ((c.point[0] - pose.x) / reach).clamp(-1.0, 1.0),
-                    ((c.point[1] - pose.y) / reach).clamp(-1.0, 1.0),
-                    c.normal[0],
-                    c.normal[1],
-                )
-            }
-            None => (0.0, 0.0, 0.0, 0.0, 0.0),
-        };
-        let time_left = (1.0 - self.steps as f64 / self.config.max_steps as f64).max(-1.0);
-        let values = [
-            scaled(pose.x, x0, x1),
-            scaled(pose.y, y0, y1),
-            pose.yaw.cos(),
-            pose.yaw.sin(),
-            deflection,
-            in_contact,
-            dx,
-            dy,
-            nx,
-            ny,
-            time_left,
-        ];
-        for (slot, v) in out.iter_mut().zip(values) {
-            *slot = v as f32;
-        }
+        out.copy_from_slice(&proprio(&self.config, &self.scene, self.steps));
         Ok(())
     }
 
@@ -387,5 +301,13 @@ fn check_length(what: &'static str, expected: usize, got: usize) -> Result<(), E
             expected,
             got,
         })
+    }
+}
+
+/// Fails on the first NaN or infinite component of `action`.
+pub(crate) fn check_finite(action: &[f64; 3]) -> Result<(), EpisodeError> {
+    match action.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        Some((index, &value)) => Err(EpisodeError::NonFiniteAction { index, value }),
+        None => Ok(()),
     }
 }

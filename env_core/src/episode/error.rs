@@ -29,6 +29,14 @@ pub enum EpisodeError {
     /// `step` was called on an episode that has ended (success or a tipped jar).
     #[error("the episode has ended (terminated); call reset() before stepping again")]
     Ended,
+    /// Episode `index` of a batch failed.
+    #[error("episode {index}: {source}")]
+    InEpisode {
+        /// Which episode of the batch.
+        index: usize,
+        /// What went wrong there.
+        source: Box<EpisodeError>,
+    },
     /// An output buffer has the wrong length.
     #[error("{what} buffer must hold {expected} values, got {got}")]
     BufferLength {
@@ -39,4 +47,14 @@ pub enum EpisodeError {
         /// Values given.
         got: usize,
     },
+}
+
+impl EpisodeError {
+    /// This error, as having happened in episode `index` of a batch.
+    pub fn in_episode(self, index: usize) -> Self {
+        Self::InEpisode {
+            index,
+            source: Box::new(self),
+        }
+    }
 }

@@ -5,7 +5,8 @@
 //! - [`config`]: the map mode, grid, prior, noise and reward weights.
 //! - [`prior`]: the GPIS prior from the depth camera's first look.
 //! - [`occupancy`]: the plain evidence grid of the `occupancy` mode.
-//! - [`map_image`]: the map as a uint8 image for the agent.
+//! - [`observation`]: the observation layout (map image channels, proprio field table).
+//! - [`step_info`]: what a step did, and the field table of `info`.
 //! - [`metrics`]: true footprints and the IoU of a map against them.
 //! - [`level_set`], [`outline`]: the map's zero level set and its distance to the true
 //!   outlines.
@@ -20,15 +21,18 @@ pub mod config;
 mod episode;
 pub mod error;
 pub mod level_set;
-pub mod map_image;
 pub mod metrics;
+pub mod observation;
 pub mod occupancy;
 pub mod oracle;
 pub mod outline;
 pub mod prior;
+pub mod step_info;
 
-pub use batch::EpisodeBatch;
+pub use batch::{Command, EpisodeBatch};
 pub use config::{EpisodeConfig, MapConfig, MapMode, RewardConfig};
-pub use episode::{Episode, StepInfo, PROPRIO_LEN};
+pub use episode::Episode;
 pub use error::EpisodeError;
+pub use observation::{PROPRIO_FIELDS, PROPRIO_LEN};
 pub use oracle::oracle_action;
+pub use step_info::{StepInfo, STEP_INFO_FIELDS};

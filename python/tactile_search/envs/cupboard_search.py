@@ -12,9 +12,9 @@ from gymnasium.utils import EzPickle
 
 from tactile_search.envs.config import (
     CupboardSearchConfig,
-    arguments_table,
     with_settings_signature,
 )
+from tactile_search.envs.observation import fill_docstring
 
 
 def observation_space(config: CupboardSearchConfig, proprio_len: int) -> spaces.Dict:
@@ -28,33 +28,6 @@ def observation_space(config: CupboardSearchConfig, proprio_len: int) -> spaces.
 
 
 ACTION_SPACE = spaces.Box(-1.0, 1.0, (3,), np.float32)
-
-
-def as_observation(maps: np.ndarray | None, proprio: np.ndarray, index: int | None = None) -> dict:
-    """The observation dict out of the batch arrays: episode ``index``'s, or (``None``) the
-    whole batch's. ``maps`` is ``None`` in the ``none`` map mode."""
-    rows = slice(None) if index is None else index
-    observation = {"proprio": proprio[rows]}
-    if maps is not None:
-        observation["map"] = maps[rows]
-    return observation
-
-
-def checked_actions(action: Any, rows: int | None) -> np.ndarray:
-    """Actions as a finite float64 ``(n, 3)`` array, else ``ValueError``.
-
-    ``rows=None`` takes one action of shape ``(3,)``; ``rows=N`` a batch ``(N, 3)``.
-    """
-    try:
-        array = np.asarray(action, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"action must be numeric with 3 entries per env, got {action!r}") from None
-    expected = (3,) if rows is None else (rows, 3)
-    if array.shape != expected:
-        raise ValueError(f"action must have shape {expected}, got shape {array.shape}")
-    if not np.all(np.isfinite(array)):
-        raise ValueError(f"action must be finite, got {array}")
-    return array.reshape(-1, 3)
 
 
 class CupboardSearchEnv(gym.Env, EzPickle):
@@ -91,14 +64,14 @@ class CupboardSearchEnv(gym.Env, EzPickle):
     | ``map`` | ``Box(0, 255, (2, H, W), uint8)`` | the map image (absent for ``map="none"``) |
     | ``proprio`` | ``Box(-1, 1, (11,), float32)`` | proprioception and touch |
 
-    ``map`` channels. ``gpis``: channel 0 = 128 + 127 clip(mean / mean_scale, -1, 1), dark
-    inside jars and 128 on surfaces; channel 1 = 255 clip(std / std_scale, 0, 1).
-    ``occupancy``: channel 0 = 255 P(occupied), 128 where unknown; channel 1 = 0.
+    ``map`` channels (from ``tactile_search._core.observation_layout()``):
 
-    ``proprio`` entries: wrist x and y scaled to the workspace, cos yaw, sin yaw, finger
-    deflection / joint limit, in contact (0 or 1), the first contact's offset from the
-    wrist (x, y, over the finger length), its outward normal (x, y), and the time left
-    1 - t / max_steps.
+    {map_channel_table}
+
+    ``proprio`` entries, all in [-1, 1] (from the same table; decoders index them by name,
+    ``tactile_search.envs.observation.PROPRIO``):
+
+    {proprio_table}
 
     Row ``i`` of the map runs along y (into the cupboard), column ``j`` along x; the grid
     covers the cupboard's interior with square cells.
@@ -122,7 +95,10 @@ class CupboardSearchEnv(gym.Env, EzPickle):
 
     ## Episode End
     - Termination: the finger touches the target (success) or a jar tips over (failure).
-    - Truncation: the registered time limit, ``max_episode_steps = 200``.
+    - Truncation: the episode's own time limit, ``max_steps`` steps (default 200): the core
+      reports it (``truncated``, also ``info["truncated"]``), so what
+      ``gymnasium.make(..., max_steps=N)`` says is what truncates, in the vector envs too.
+      Stepping on after truncation is allowed (``time_left`` goes below 0, floored at -1).
 
     ## Arguments
     ``render_mode``: ``None`` or ``"rgb_array"``. Then every setting of the core, by keyword
@@ -132,7 +108,7 @@ class CupboardSearchEnv(gym.Env, EzPickle):
     ``ValueError``, each naming the argument. ``map`` and ``grid_shape`` shape the
     observation; ``max_steps`` is the time limit.
 
-    SETTINGS_TABLE
+    {settings_table}
 
     ## Version History
     - v0: first release.
@@ -157,19 +133,13 @@ class CupboardSearchEnv(gym.Env, EzPickle):
         # A given seed is the layout's seed (so reset(seed=s) here equals episode i of a
         # vector env reset with seed[i] = s); otherwise draw one from the env's generator.
         episode_seed = seed if seed is not None else int(self.np_random.integers(0, 2**63))
-        maps, proprio = self._batch.reset(0, episode_seed)
-        return as_observation(maps, proprio, 0), dict(self._batch.info(0))
+        self._batch.reset(0, episode_seed)
+        return self._batch.observation(0), self._batch.info(0)
 
     def step(self, action: Any) -> tuple[dict, float, bool, bool, dict]:
-        actions = checked_actions(action, None)
-        maps, proprio, rewards, terminated, infos = self._batch.step(actions)
-        return (
-            as_observation(maps, proprio, 0),
-            float(rewards[0]),
-            bool(terminated[0]),
-            False,
-            infos[0],
-        )
+        # One call: the core checks the action once (shape (3,), finite; ValueError naming
+        # what came) and returns fresh observation arrays and an info dict of scalars.
+        return self._batch.step_single(action)
 
     def oracle_action(self) -> np.ndarray:
         """The action of a scripted searcher that knows the target (the upper bound)."""
@@ -187,9 +157,7 @@ class CupboardSearchEnv(gym.Env, EzPickle):
         return render_frame(self.render_state(), self.config.map)
 
 
-CupboardSearchEnv.__doc__ = (CupboardSearchEnv.__doc__ or "").replace(
-    "SETTINGS_TABLE", arguments_table().replace("\n", "\n    ")
-)
+CupboardSearchEnv.__doc__ = fill_docstring(CupboardSearchEnv.__doc__ or "")
 with_settings_signature(
     CupboardSearchEnv.__init__,
     [

@@ -6,7 +6,10 @@ last one in ``infos[i]["terminal_observation"]`` (with ``"TimeLimit.truncated"``
 the time limit ended it, and ``"is_success"``, which SB3 logs as ``rollout/success_rate``).
 This adapter gives the batch exactly those semantics, so SB3 trains on all cores:
 ``PPO("MultiInputPolicy", CupboardSearchSb3VecEnv(num_envs=8))``.
-Needs the ``agents`` extra (stable-baselines3).
+The time limit is the core's (``max_steps``). The core writes each step's results into
+arrays allocated once per batch; this adapter copies the observation once per step (SB3
+keeps the previous step's observation while it takes the next) and builds SB3's per-env
+info dicts in Rust. Needs the ``agents`` extra (stable-baselines3).
 """
 
 from __future__ import annotations
@@ -18,12 +21,8 @@ import numpy as np
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
 from tactile_search.envs.config import CupboardSearchConfig
-from tactile_search.envs.cupboard_search import (
-    ACTION_SPACE,
-    as_observation,
-    checked_actions,
-    observation_space,
-)
+from tactile_search.envs.cupboard_search import ACTION_SPACE, observation_space
+from tactile_search.envs.vector import observation_dict
 
 
 class CupboardSearchSb3VecEnv(VecEnv):
@@ -31,18 +30,16 @@ class CupboardSearchSb3VecEnv(VecEnv):
 
     Args:
         num_envs: number of episodes.
-        max_episode_steps: the time limit per episode (truncation).
         seed: seed of the generator that draws each new episode's layout seed.
         layout_seeds: ``[low, high)``, the range layout seeds are drawn from (keep training
             out of the range evaluation holds out; ``agents/train.py`` uses ``[2**32, 2**63)``).
         threads: worker threads (default: every core).
-        **kwargs: the fields of ``CupboardSearchConfig``.
+        **kwargs: the fields of ``CupboardSearchConfig`` (``max_steps`` is the time limit).
     """
 
     def __init__(
         self,
         num_envs: int = 2,
-        max_episode_steps: int = 200,
         seed: int | None = None,
         layout_seeds: tuple[int, int] = (0, 2**63),
         threads: int | None = None,
@@ -63,9 +60,7 @@ class CupboardSearchSb3VecEnv(VecEnv):
         super().__init__(
             num_envs, observation_space(self.config, self._batch.proprio_len), ACTION_SPACE
         )
-        self.max_episode_steps = max_episode_steps
-        self._elapsed = np.zeros(num_envs, dtype=np.int64)
-        self._actions = np.zeros((num_envs, 3))
+        self._actions: Any = np.zeros((num_envs, 3))
 
     def _new_seeds(self, count: int) -> list[int]:
         low, high = self.layout_seeds
@@ -76,32 +71,34 @@ class CupboardSearchSb3VecEnv(VecEnv):
         return [seed] * self.num_envs
 
     def reset(self) -> dict[str, np.ndarray]:
-        for index, episode_seed in enumerate(self._new_seeds(self.num_envs)):
-            self._batch.reset(index, episode_seed)
-        self._elapsed[:] = 0
-        return as_observation(*self._batch.observe())
+        self._batch.reset_many(list(enumerate(self._new_seeds(self.num_envs))))
+        return self._observation()
+
+    def _observation(self) -> dict[str, np.ndarray]:
+        """A copy of the batch's observation arrays (the batch overwrites its own)."""
+        return {k: v.copy() for k, v in observation_dict(*self._batch.observe()).items()}
 
     def step_async(self, actions: np.ndarray) -> None:
-        self._actions = checked_actions(actions, self.num_envs)
+        self._actions = actions  # checked once, by the core, in step_wait
 
     def step_wait(self) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, list[dict]]:
-        maps, proprio, rewards, terminated, step_infos = self._batch.step(self._actions)
-        self._elapsed += 1
-        truncated = (self._elapsed >= self.max_episode_steps) & ~terminated
+        maps, proprio, rewards, terminated, truncated, _ = self._batch.step(self._actions)
         dones = terminated | truncated
-        observation = as_observation(maps, proprio)
-        infos = [dict(info) for info in step_infos]
-        for index in np.flatnonzero(dones):
-            infos[index]["terminal_observation"] = {
-                k: v[index].copy() for k, v in observation.items()
-            }
-            infos[index]["TimeLimit.truncated"] = bool(truncated[index])
-            infos[index]["is_success"] = bool(infos[index]["success"])
-            first = as_observation(*self._batch.reset(int(index), self._new_seeds(1)[0]), index)
-            for key, value in first.items():
-                observation[key][index] = value
-            self._elapsed[index] = 0
-        return observation, rewards.astype(np.float32), dones, infos
+        rewards = rewards.astype(np.float32)
+        infos = self._batch.infos()
+        ended = np.flatnonzero(dones).tolist()
+        if ended:
+            # The terminal rows first: the resets below overwrite them in the batch's arrays.
+            for index in ended:
+                terminal = {"proprio": proprio[index].copy()}
+                if maps is not None:
+                    terminal["map"] = maps[index].copy()
+                info = infos[index]
+                info["terminal_observation"] = terminal
+                info["TimeLimit.truncated"] = info["truncated"]
+                info["is_success"] = info["success"]
+            self._batch.reset_many([(index, self._new_seeds(1)[0]) for index in ended])
+        return self._observation(), rewards, dones, infos
 
     def close(self) -> None:
         pass

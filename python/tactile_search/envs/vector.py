@@ -4,8 +4,13 @@
 vectorization_mode="vector_entry_point")``. Autoreset follows gymnasium 1.x's default
 ``NEXT_STEP`` mode: the step after an episode ends (terminated or truncated) resets that
 episode and returns its first observation with reward 0 and both flags False; the action
-given for it is ignored. Truncation comes from ``max_episode_steps`` (the registered time
-limit), counted here per episode.
+given for it is ignored. The reset runs in the same parallel call as the other episodes'
+steps. Truncation is the core's: an episode truncates when its steps reach ``max_steps``.
+
+The step path: the core writes observations, rewards, flags and the info (one array per
+key, never per-env dicts) into arrays allocated once per batch. With ``copy=True`` (the
+default, like gymnasium's own vector envs) each step returns fresh copies of them; with
+``copy=False`` it returns the batch's own arrays, which the next step overwrites.
 """
 
 from __future__ import annotations
@@ -17,12 +22,12 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from tactile_search.envs.config import CupboardSearchConfig
-from tactile_search.envs.cupboard_search import (
-    ACTION_SPACE,
-    as_observation,
-    checked_actions,
-    observation_space,
-)
+from tactile_search.envs.cupboard_search import ACTION_SPACE, observation_space
+
+
+def observation_dict(maps: np.ndarray | None, proprio: np.ndarray) -> dict[str, np.ndarray]:
+    """The observation dict of the batch's arrays (no ``map`` in the ``none`` mode)."""
+    return {"proprio": proprio} if maps is None else {"proprio": proprio, "map": maps}
 
 
 class CupboardSearchVectorEnv(VectorEnv):
@@ -30,9 +35,10 @@ class CupboardSearchVectorEnv(VectorEnv):
 
     Args:
         num_envs: number of episodes.
-        max_episode_steps: the time limit per episode (truncation).
         threads: worker threads (default: every core).
-        **kwargs: the fields of ``CupboardSearchConfig``.
+        copy: return fresh arrays each step (True) or the batch's own arrays, overwritten
+            by the next step (False; saves a copy of every output per step).
+        **kwargs: the fields of ``CupboardSearchConfig`` (``max_steps`` is the time limit).
     """
 
     metadata: ClassVar[dict[str, Any]] = {
@@ -43,21 +49,20 @@ class CupboardSearchVectorEnv(VectorEnv):
     def __init__(
         self,
         num_envs: int = 2,
-        max_episode_steps: int | None = 200,
         threads: int | None = None,
+        copy: bool = True,
         **kwargs: Any,
     ) -> None:
         if not isinstance(num_envs, int) or num_envs < 1:
             raise ValueError(f"num_envs must be a positive int, got {num_envs!r}")
         self.num_envs = num_envs
-        self.max_episode_steps = max_episode_steps
+        self.copy = bool(copy)
         self.config = CupboardSearchConfig(**kwargs)
         self._batch = self.config.make_batch(list(range(num_envs)), threads=threads)
         self.single_observation_space = observation_space(self.config, self._batch.proprio_len)
         self.single_action_space = ACTION_SPACE
         self.observation_space = batch_space(self.single_observation_space, num_envs)
         self.action_space = batch_space(self.single_action_space, num_envs)
-        self._elapsed = np.zeros(num_envs, dtype=np.int64)
         self._needs_reset = np.zeros(num_envs, dtype=bool)
 
     def _seeds(self, count: int) -> list[int]:
@@ -74,37 +79,35 @@ class CupboardSearchVectorEnv(VectorEnv):
         else:
             super().reset(seed=seed)
             seeds = self._seeds(self.num_envs)
-        for index, episode_seed in enumerate(seeds):
-            self._batch.reset(index, episode_seed)
-        self._elapsed[:] = 0
+        self._batch.reset_many(list(enumerate(seeds)))
         self._needs_reset[:] = False
-        maps, proprio = self._batch.observe()
-        return as_observation(maps, proprio), self._infos()
-
-    def _infos(self) -> dict:
-        infos: dict = {}
-        for index in range(self.num_envs):
-            infos = self._add_info(infos, dict(self._batch.info(index)), index)
-        return infos
+        observation = observation_dict(*self._batch.observe())
+        info = self._batch.info_arrays()
+        return self._out(observation), self._out(info)
 
     def step(self, actions: Any) -> tuple[dict, np.ndarray, np.ndarray, np.ndarray, dict]:
-        actions = checked_actions(actions, self.num_envs)
         resetting = np.flatnonzero(self._needs_reset)
-        for index, episode_seed in zip(resetting, self._seeds(len(resetting)), strict=True):
-            self._batch.reset(int(index), episode_seed)
-            self._elapsed[index] = 0
-        # Episodes reset just now are not stepped: they return their first observation.
-        stepping = ~self._needs_reset
-        maps, proprio, rewards, terminated, step_infos = self._batch.step(actions, stepping)
-        self._elapsed[stepping] += 1
-        truncated = np.zeros(self.num_envs, dtype=bool)
-        if self.max_episode_steps is not None:
-            truncated = stepping & (self._elapsed >= self.max_episode_steps) & ~terminated
-        infos: dict = {}
-        for index in range(self.num_envs):
-            infos = self._add_info(infos, dict(step_infos[index]), index)
-        self._needs_reset = stepping & (terminated | truncated)
-        return as_observation(maps, proprio), rewards, terminated, truncated, infos
+        # Episodes that ended last step start over in the same parallel call (their action
+        # is ignored): they return their first observation, reward 0, flags False.
+        resets = list(zip(resetting.tolist(), self._seeds(len(resetting)), strict=True))
+        maps, proprio, rewards, terminated, truncated, info = self._batch.step(actions, resets)
+        self._needs_reset = terminated | truncated
+        observation = observation_dict(maps, proprio)
+        if self.copy:
+            return (
+                self._out(observation),
+                rewards.copy(),
+                terminated.copy(),
+                truncated.copy(),
+                self._out(info),
+            )
+        return observation, rewards, terminated, truncated, info
+
+    def _out(self, arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """``arrays`` as returned: copies unless ``copy=False``."""
+        if self.copy:
+            return {key: value.copy() for key, value in arrays.items()}
+        return dict(arrays)
 
     def oracle_actions(self) -> np.ndarray:
         """Actions ``(num_envs, 3)`` of a scripted searcher that knows each target."""

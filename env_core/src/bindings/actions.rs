@@ -1,0 +1,57 @@
+//! Actions from Python: any array-like of floats, converted once to `[f64; 3]` rows with its
+//! shape checked here (finiteness is checked once, by the core, before any episode moves).
+//!
+//! float64 and float32 numpy arrays (what agents hand over) are read in place; anything
+//! else goes through `numpy.asarray(..., dtype=float64)` first. Cost O(N).
+
+use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+
+use super::convert::type_name;
+use super::errors::{shape_text, wrong_shape, wrong_value};
+
+/// Reads `value` as an array of `shape` (`[3]` for one action, `[n, 3]` for a batch) into
+/// rows of 3; `what` names it in errors ("action" or "actions").
+pub(crate) fn action_rows(
+    what: &str,
+    value: &Bound<'_, PyAny>,
+    shape: &[usize],
+) -> PyResult<Vec<[f64; 3]>> {
+    let flat = if let Ok(array) = value.cast::<PyArrayDyn<f64>>() {
+        check_shape(what, array.shape(), shape)?;
+        let array = array.try_readonly().map_err(|e| unreadable(what, e))?;
+        array.as_array().iter().copied().collect::<Vec<f64>>()
+    } else if let Ok(array) = value.cast::<PyArrayDyn<f32>>() {
+        check_shape(what, array.shape(), shape)?;
+        let array = array.try_readonly().map_err(|e| unreadable(what, e))?;
+        array.as_array().iter().map(|&v| f64::from(v)).collect()
+    } else {
+        let py = value.py();
+        let converted = py
+            .import("numpy")?
+            .call_method1("asarray", (value, "float64"))
+            .map_err(|_| {
+                let got = value.repr().map_or_else(|_| "?".into(), |r| r.to_string());
+                wrong_value(what, NUMERIC, format!("{} {got}", type_name(value)))
+            })?;
+        if converted.cast::<PyArrayDyn<f64>>().is_err() {
+            return Err(wrong_value(what, NUMERIC, type_name(value)));
+        }
+        return action_rows(what, &converted, shape);
+    };
+    Ok(flat.chunks_exact(3).map(|r| [r[0], r[1], r[2]]).collect())
+}
+
+fn check_shape(what: &str, got: &[usize], expected: &[usize]) -> PyResult<()> {
+    if got == expected {
+        Ok(())
+    } else {
+        Err(wrong_shape(what, &shape_text(expected), got))
+    }
+}
+
+const NUMERIC: &str = "numeric with 3 entries per env";
+
+fn unreadable(what: &str, error: impl std::fmt::Display) -> PyErr {
+    wrong_value(what, "a readable array", error)
+}

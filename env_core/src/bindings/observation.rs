@@ -1,0 +1,35 @@
+//! `_core.observation_layout()`: the observation's field table, for the docstring, the
+//! decoders and the tests (one source: [`crate::episode::observation`]). Cost: a few dicts.
+
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use crate::episode::observation::{MAP_CHANNELS, PROPRIO_FIELDS};
+
+/// The observation layout: `{"proprio": [{"name", "index", "scale", "meaning"}, ...],
+/// "map_channels": [{"mode", "channel", "name", "encoding"}, ...]}`.
+#[pyfunction]
+pub(crate) fn observation_layout(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let proprio = PyList::empty(py);
+    for (index, field) in PROPRIO_FIELDS.iter().enumerate() {
+        let d = PyDict::new(py);
+        d.set_item("name", field.name)?;
+        d.set_item("index", index)?;
+        d.set_item("scale", field.scale)?;
+        d.set_item("meaning", field.meaning)?;
+        proprio.append(d)?;
+    }
+    let channels = PyList::empty(py);
+    for channel in &MAP_CHANNELS {
+        let d = PyDict::new(py);
+        d.set_item("mode", channel.mode)?;
+        d.set_item("channel", channel.channel)?;
+        d.set_item("name", channel.name)?;
+        d.set_item("encoding", channel.encoding)?;
+        channels.append(d)?;
+    }
+    let layout = PyDict::new(py);
+    layout.set_item("proprio", proprio)?;
+    layout.set_item("map_channels", channels)?;
+    Ok(layout)
+}

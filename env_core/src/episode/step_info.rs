@@ -1,0 +1,228 @@
+//! What one step did ([`StepInfo`]) and its field table ([`STEP_INFO_FIELDS`]): the keys of
+//! the environments' `info`, each with its type and doc, read by the bindings to build the
+//! single env's dict of scalars and the vector env's dict of arrays alike.
+//!
+//! [`InfoColumns`] writes the infos of a batch as one column per field (the layout of the
+//! vector env's dict of arrays). Cost: O(fields) per episode.
+
+/// What one step did: the reward term by term, the episode end, and the metrics.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StepInfo {
+    /// Total reward: the sum of the five terms below.
+    pub reward: f64,
+    /// `reward.success` when the finger touched the target this step, else 0.
+    pub reward_success: f64,
+    /// `−reward.step_cost`.
+    pub reward_step: f64,
+    /// `−reward.displacement ·` the jar displacement added this step (m, summed over jars).
+    pub reward_displacement: f64,
+    /// `−reward.tip` when a jar tipped over this step, else 0.
+    pub reward_tip: f64,
+    /// `reward.approach ·` how much the fingertip's path distance to the target shrank
+    /// this step (potential-based shaping; 0 at the default weight).
+    pub reward_approach: f64,
+    /// The episode ended (success or a tipped jar).
+    pub terminated: bool,
+    /// The time limit ended the episode: `steps >= max_steps` and not terminated.
+    pub truncated: bool,
+    /// The finger touched the target.
+    pub success: bool,
+    /// A jar tipped over.
+    pub tipped: bool,
+    /// Steps since reset.
+    pub steps: usize,
+    /// Planar displacement since reset, summed over jars, m.
+    pub jar_displacement: f64,
+    /// Largest jar displacement since reset, m.
+    pub max_jar_displacement: f64,
+    /// The fingertip's path distance to the target now, m (see [`super::approach`]).
+    pub target_distance: f64,
+    /// Largest jar tilt now, rad.
+    pub max_tilt: f64,
+    /// Jars tipped over now.
+    pub tips: usize,
+    /// Tactile readings this step.
+    pub contacts: usize,
+    /// GP rows the readings added.
+    pub rows_added: usize,
+    /// Readings skipped as uninformative (or rejected as degenerate).
+    pub contacts_skipped: usize,
+    /// Readings dropped because the map was full.
+    pub contacts_dropped: usize,
+    /// GP rows held.
+    pub gpis_rows: usize,
+    /// IoU of the map's interior against the true jar footprints (0 without a map).
+    pub iou: f64,
+    /// The action was outside [−1, 1] and was clipped.
+    pub clipped: bool,
+    /// A wall (or the workspace edge) stopped the hand.
+    pub blocked: bool,
+}
+
+/// How an info field reads its value: its type (numpy dtype float64, bool, int64) and getter.
+#[derive(Clone, Copy)]
+pub enum InfoValue {
+    /// A real number (float64).
+    Float(fn(&StepInfo) -> f64),
+    /// A flag (bool).
+    Flag(fn(&StepInfo) -> bool),
+    /// A count (int64).
+    Count(fn(&StepInfo) -> usize),
+}
+
+/// One key of `info`.
+pub struct InfoField {
+    /// The key.
+    pub name: &'static str,
+    /// Its type and getter.
+    pub value: InfoValue,
+    /// What it means.
+    pub doc: &'static str,
+}
+
+impl InfoField {
+    /// `"float64"`, `"bool"` or `"int64"`: the field's numpy dtype.
+    pub fn dtype(&self) -> &'static str {
+        match self.value {
+            InfoValue::Float(_) => "float64",
+            InfoValue::Flag(_) => "bool",
+            InfoValue::Count(_) => "int64",
+        }
+    }
+}
+
+macro_rules! info_fields {
+    ($($name:ident: $kind:ident, $doc:literal;)*) => {
+        /// Every key of `info`, in order (the reward terms first, then the episode end and
+        /// the metrics).
+        pub const STEP_INFO_FIELDS: &[InfoField] = &[$(InfoField {
+            name: stringify!($name),
+            value: InfoValue::$kind(|info| info.$name),
+            doc: $doc,
+        }),*];
+    };
+}
+
+info_fields! {
+    reward_success: Float, "reward_success when the finger touched the target this step, else 0";
+    reward_step: Float, "-reward_step_cost";
+    reward_displacement: Float, "-reward_displacement times the jar displacement added this step";
+    reward_tip: Float, "-reward_tip when a jar tipped over this step, else 0";
+    reward_approach: Float, "reward_approach times the shrink of target_distance this step";
+    target_distance: Float, "the fingertip's path distance to the target, m";
+    success: Flag, "the finger touched the target";
+    tipped: Flag, "a jar tipped over";
+    steps: Count, "steps since reset";
+    jar_displacement: Float, "planar displacement since reset, summed over jars, m";
+    max_jar_displacement: Float, "largest jar displacement since reset, m";
+    max_tilt: Float, "largest jar tilt now, rad";
+    tips: Count, "jars tipped over now";
+    contacts: Count, "tactile readings this step";
+    rows_added: Count, "GPIS rows the readings added";
+    contacts_skipped: Count, "readings skipped as uninformative";
+    contacts_dropped: Count, "readings dropped because the map was full";
+    gpis_rows: Count, "GPIS rows held";
+    iou: Float, "IoU of the map's interior against the true jar footprints";
+    clipped: Flag, "the action was outside [-1, 1] and was clipped";
+    blocked: Flag, "a wall or the workspace edge stopped the hand";
+    truncated: Flag, "the time limit ended the episode (steps >= max_steps, not terminated)";
+}
+
+/// Number of info fields of each type: (floats, flags, counts).
+pub fn info_counts() -> (usize, usize, usize) {
+    STEP_INFO_FIELDS
+        .iter()
+        .fold((0, 0, 0), |(f, b, c), field| match field.value {
+            InfoValue::Float(_) => (f + 1, b, c),
+            InfoValue::Flag(_) => (f, b + 1, c),
+            InfoValue::Count(_) => (f, b, c + 1),
+        })
+}
+
+/// The infos of N episodes, one column per field, grouped by type: float field k of
+/// episode i is `floats[k * n + i]` (k counts float fields only), and so on.
+pub struct InfoColumns<'a> {
+    /// Episodes.
+    pub n: usize,
+    /// Float fields, field-major.
+    pub floats: &'a mut [f64],
+    /// Flag fields, field-major.
+    pub flags: &'a mut [bool],
+    /// Count fields, field-major.
+    pub counts: &'a mut [i64],
+}
+
+impl InfoColumns<'_> {
+    /// Writes episode `i`'s info into its column entries. Cost O(fields).
+    pub fn write(&mut self, i: usize, info: &StepInfo) {
+        let (mut f, mut b, mut c) = (0, 0, 0);
+        for field in STEP_INFO_FIELDS {
+            match field.value {
+                InfoValue::Float(get) => {
+                    self.floats[f * self.n + i] = get(info);
+                    f += 1;
+                }
+                InfoValue::Flag(get) => {
+                    self.flags[b * self.n + i] = get(info);
+                    b += 1;
+                }
+                InfoValue::Count(get) => {
+                    self.counts[c * self.n + i] = get(info) as i64;
+                    c += 1;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn info_keys_are_unique() {
+        let mut names: Vec<_> = STEP_INFO_FIELDS.iter().map(|f| f.name).collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), STEP_INFO_FIELDS.len());
+    }
+
+    #[test]
+    fn columns_hold_each_field_of_each_episode() {
+        let (nf, nb, nc) = info_counts();
+        let n = 2;
+        let (mut floats, mut flags, mut counts) =
+            (vec![0.0; nf * n], vec![false; nb * n], vec![0; nc * n]);
+        let info = StepInfo {
+            iou: 0.5,
+            blocked: true,
+            gpis_rows: 7,
+            ..StepInfo::default()
+        };
+        let mut columns = InfoColumns {
+            n,
+            floats: &mut floats,
+            flags: &mut flags,
+            counts: &mut counts,
+        };
+        columns.write(1, &info);
+        let (mut f, mut b, mut c) = (0, 0, 0);
+        for field in STEP_INFO_FIELDS {
+            match (field.name, field.value) {
+                ("iou", _) => assert_eq!(floats[f * n + 1], 0.5),
+                ("blocked", _) => assert!(flags[b * n + 1]),
+                ("gpis_rows", _) => assert_eq!(counts[c * n + 1], 7),
+                _ => {}
+            }
+            match field.value {
+                InfoValue::Float(_) => f += 1,
+                InfoValue::Flag(_) => b += 1,
+                InfoValue::Count(_) => c += 1,
+            }
+        }
+        assert_eq!(
+            floats[..n].iter().sum::<f64>() + counts[..n].iter().sum::<i64>() as f64,
+            0.0
+        );
+    }
+}
