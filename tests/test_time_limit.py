@@ -8,8 +8,7 @@ import numpy as np
 import pytest
 
 import tactile_search  # noqa: F401  (registers the environment)
-from tactile_search import CupboardSearchVectorEnv
-from tactile_search import _core
+from tactile_search import CupboardSearchVectorEnv, _core
 
 ENV_ID = "tactile_search/CupboardSearch-v0"
 
