@@ -78,12 +78,16 @@ def settings_parameters() -> list[inspect.Parameter]:
     ]
 
 
-def with_settings_signature(
-    function: Callable[..., Any], leading: list[inspect.Parameter]
-) -> Callable[..., Any]:
-    """Gives ``function`` (which takes ``**settings``) a signature that lists ``leading``
-    then every setting with its default, so ``help()`` and ``inspect`` show them all."""
-    function.__signature__ = inspect.Signature([*leading, *settings_parameters()])  # type: ignore[attr-defined]
+def with_settings_signature(function: Callable[..., Any]) -> Callable[..., Any]:
+    """Gives ``function`` (which takes ``**settings``) a signature that lists its own
+    parameters and then every setting with the core's default, so ``help()`` and
+    ``inspect.signature`` show them all."""
+    own = [
+        p
+        for p in inspect.signature(function).parameters.values()
+        if p.kind is not inspect.Parameter.VAR_KEYWORD
+    ]
+    function.__signature__ = inspect.Signature([*own, *settings_parameters()])  # type: ignore[attr-defined]
     return function
 
 

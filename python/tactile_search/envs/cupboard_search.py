@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import inspect
 from typing import Any, ClassVar
 
 import gymnasium as gym
@@ -158,15 +157,4 @@ class CupboardSearchEnv(gym.Env, EzPickle):
 
 
 CupboardSearchEnv.__doc__ = fill_docstring(CupboardSearchEnv.__doc__ or "")
-with_settings_signature(
-    CupboardSearchEnv.__init__,
-    [
-        inspect.Parameter("self", inspect.Parameter.POSITIONAL_OR_KEYWORD),
-        inspect.Parameter(
-            "render_mode",
-            inspect.Parameter.POSITIONAL_OR_KEYWORD,
-            default=None,
-            annotation="str | None",
-        ),
-    ],
-)
+with_settings_signature(CupboardSearchEnv.__init__)
