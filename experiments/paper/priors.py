@@ -1,7 +1,7 @@
 """The prior options the paper's table compares. Each is a set of environment settings
-(``prior_mean``, ``circle_prior_diameter``, ``free_space_offset``) plus the depth prior's
-own option ``wall_clearance``, so the chosen option is directly the settings the
-environment should run.
+(``prior_mean``, ``circle_prior_diameter``, ``free_space_offset``,
+``prior_wall_clearance``), so the chosen option is directly the settings the environment
+should run.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ class PriorOption:
     wall_clearance: float = 0.0
 
     def settings(self) -> dict[str, Any]:
-        """The option as environment settings (and the prior's ``wall_clearance``)."""
+        """The option as environment settings."""
         return {
             "prior_mean": self.prior_mean,
             "circle_prior_diameter": self.circle_prior_diameter,
