@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import copy
+import os
 import platform
 import time
 from pathlib import Path
@@ -26,6 +27,14 @@ import gymnasium as gym
 import yaml
 
 import tactile_search
+
+# Torch's OpenMP threads busy-wait between parallel regions by default; on this 2-core
+# machine they then fight the environment batch's worker threads (and other jobs) for the
+# cores. Passive waiting, set before torch loads its OpenMP runtime, measured: PPO with the
+# GPIS recipe on the Rust batch 417 vs ~100 steps/s (torch threads 2), and 0.81 instead of
+# 0.52 of the speed on a zero-cost VecEnv (`python -m benchmarks.ppo_env_overhead`). A value
+# the user set is kept.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 ENV_ID = "tactile_search/CupboardSearch-v0"
 HYPERPARAMS_DIR = Path(__file__).parent / "hyperparams"

@@ -22,6 +22,7 @@ import multiprocessing
 import os
 import statistics
 import time
+from typing import Any
 
 import numpy as np
 
@@ -131,6 +132,35 @@ def free_cores(count: int = 3_000_000, rounds: int = 3) -> float:
     return statistics.median(ratios)
 
 
+def _synced_bursts(barrier: Any, bursts: int, count: int) -> None:
+    """``bursts`` bursts of work, each followed by waiting for the other worker."""
+    for _ in range(bursts):
+        _burn(count)
+        barrier.wait()
+
+
+def synced_free_cores(bursts: int = 300, count: int = 60_000) -> float:
+    """Like ``free_cores``, but the two processes meet at a barrier after every burst of a
+    few ms, as the batch's workers do after every step: on a machine shared with other jobs,
+    a worker that loses its time slice holds the other up, so this is the ceiling for a
+    batch stepped in lock step (2.0 on two idle cores)."""
+    context = multiprocessing.get_context("spawn")
+    start = time.perf_counter()
+    _burn(2 * bursts * count)
+    alone = time.perf_counter() - start
+    barrier = context.Barrier(2)
+    workers = [
+        context.Process(target=_synced_bursts, args=(barrier, bursts, count)) for _ in range(2)
+    ]
+    for worker in workers:
+        worker.start()
+    start = time.perf_counter()
+    for worker in workers:
+        worker.join()
+    together = time.perf_counter() - start
+    return alone / together
+
+
 def memory_per_env(mode: str, count: int = 16) -> float:
     """Resident memory added by ``count`` more envs (each reset and stepped), MiB per env."""
     before = rss_mib()
@@ -152,6 +182,10 @@ def main(argv: list[str] | None = None) -> None:
     args = parser.parse_args(argv)
     print(f"cores: {os.cpu_count()}; shared, noisy machine: medians from one run")
     print(f"control: two CPU-bound processes get {free_cores():.2f}x the work of one")
+    print(
+        f"control: two processes meeting after every burst of a few ms get "
+        f"{synced_free_cores():.2f}x the work of one"
+    )
     for mode in args.modes:
         print(f"\n== map={mode}")
         for policy in () if args.vector_only else ("random", "oracle"):

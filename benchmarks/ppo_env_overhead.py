@@ -9,9 +9,18 @@ the environment's own rounds gives a second, load-robust estimate of the ratio,
 root::
 
     python -m benchmarks.ppo_env_overhead [--steps 2048] [--rounds 6] [--torch-threads 2]
+
+Like ``agents/train.py``, it sets ``OMP_WAIT_POLICY=PASSIVE`` (unless set) before torch
+loads, for both PPOs alike; run with ``OMP_WAIT_POLICY=ACTIVE`` to see the busy-waiting
+default.
 """
 
 from __future__ import annotations
+
+import os
+
+# Before torch loads (stable_baselines3 imports it): see agents/train.py.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 import argparse
 import statistics
@@ -88,6 +97,7 @@ def main(argv: list[str] | None = None) -> None:
     args = parser.parse_args(argv)
     import torch
 
+    print(f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY')}")
     torch.set_num_threads(args.torch_threads)
     recipe = load_hyperparams("ppo", args.map)
     n_envs = recipe["n_envs"]

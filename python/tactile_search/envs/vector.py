@@ -86,10 +86,13 @@ class CupboardSearchVectorEnv(VectorEnv):
         return self._out(observation), self._out(info)
 
     def step(self, actions: Any) -> tuple[dict, np.ndarray, np.ndarray, np.ndarray, dict]:
-        resetting = np.flatnonzero(self._needs_reset)
         # Episodes that ended last step start over in the same parallel call (their action
-        # is ignored): they return their first observation, reward 0, flags False.
-        resets = list(zip(resetting.tolist(), self._seeds(len(resetting)), strict=True))
+        # is ignored): they return their first observation, reward 0, flags False. (Most
+        # steps reset nothing: skip the numpy calls then, a draw of no seeds changes no state.)
+        resets = None
+        if self._needs_reset.any():
+            resetting = np.flatnonzero(self._needs_reset).tolist()
+            resets = list(zip(resetting, self._seeds(len(resetting)), strict=True))
         maps, proprio, rewards, terminated, truncated, info = self._batch.step(actions, resets)
         self._needs_reset = terminated | truncated
         observation = observation_dict(maps, proprio)
