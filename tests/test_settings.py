@@ -43,6 +43,16 @@ def test_the_env_signature_lists_every_setting_with_its_default() -> None:
         assert parameters[s["key"]].default == s["default"], s["key"]
 
 
+def test_the_vector_env_signature_lists_its_own_arguments_then_every_setting() -> None:
+    from tactile_search import CupboardSearchVectorEnv
+
+    parameters = inspect.signature(CupboardSearchVectorEnv).parameters
+    assert list(parameters)[:3] == ["num_envs", "threads", "copy"]
+    assert [p for p in parameters if p in {s["key"] for s in EPISODE_SETTINGS}] == [
+        s["key"] for s in EPISODE_SETTINGS
+    ]
+
+
 def test_the_env_docstring_has_a_row_per_setting() -> None:
     doc = CupboardSearchEnv.__doc__ or ""
     assert "{settings_table}" not in doc

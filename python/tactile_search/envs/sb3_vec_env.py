@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
-from tactile_search.envs.config import CupboardSearchConfig
+from tactile_search.envs.config import CupboardSearchConfig, with_settings_signature
 from tactile_search.envs.cupboard_search import ACTION_SPACE, observation_space
 from tactile_search.envs.vector import observation_dict
 
@@ -121,3 +121,6 @@ class CupboardSearchSb3VecEnv(VecEnv):
         if isinstance(indices, int):
             return [indices]
         return indices
+
+
+with_settings_signature(CupboardSearchSb3VecEnv.__init__)

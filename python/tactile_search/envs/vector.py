@@ -21,7 +21,7 @@ import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from tactile_search.envs.config import CupboardSearchConfig
+from tactile_search.envs.config import CupboardSearchConfig, with_settings_signature
 from tactile_search.envs.cupboard_search import ACTION_SPACE, observation_space
 
 
@@ -115,3 +115,6 @@ class CupboardSearchVectorEnv(VectorEnv):
     def oracle_actions(self) -> np.ndarray:
         """Actions ``(num_envs, 3)`` of a scripted searcher that knows each target."""
         return self._batch.oracle_actions().astype(np.float32)
+
+
+with_settings_signature(CupboardSearchVectorEnv.__init__)
