@@ -27,6 +27,7 @@ import gymnasium as gym
 import yaml
 
 import tactile_search
+from tactile_search.envs.config import MAP_MODES
 
 # Torch's OpenMP threads busy-wait between parallel regions by default; on this 2-core
 # machine they then fight the environment batch's worker threads (and other jobs) for the
@@ -39,7 +40,6 @@ os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 ENV_ID = "tactile_search/CupboardSearch-v0"
 HYPERPARAMS_DIR = Path(__file__).parent / "hyperparams"
 ALGORITHMS = ("ppo", "recurrent_ppo")
-MAP_MODES = ("gpis", "occupancy", "none")
 # Training layouts are drawn from [2**32, 2**63); evaluation holds out seeds below 2**32.
 TRAIN_LAYOUT_SEEDS = (2**32, 2**63)
 # Recipe keys that configure the run rather than the algorithm.

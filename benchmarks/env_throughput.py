@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from tactile_search import CupboardSearchEnv, CupboardSearchVectorEnv
+from tactile_search.envs.config import MAP_MODES
 
 
 def rss_mib() -> float:
@@ -176,7 +177,7 @@ def memory_per_env(mode: str, count: int = 16) -> float:
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=3000, help="steps per measurement")
-    parser.add_argument("--modes", nargs="+", default=["gpis", "occupancy", "none"])
+    parser.add_argument("--modes", nargs="+", default=list(MAP_MODES))
     parser.add_argument("--num-envs", type=int, nargs="+", default=[8, 16], help="vector env sizes")
     parser.add_argument("--vector-only", action="store_true", help="only the vector env speed-ups")
     args = parser.parse_args(argv)

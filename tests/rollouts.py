@@ -40,6 +40,7 @@ INFO_KEYS = (
     "clipped",
     "blocked",
 )
+# The map modes of the base commit (the pinned file holds exactly these).
 MODES = ("gpis", "occupancy", "none")
 MAX_STEPS = 15
 STEPS = 40

@@ -11,9 +11,10 @@ from gymnasium.utils.env_checker import check_env
 
 import tactile_search  # noqa: F401  (registers the environment)
 from tactile_search import CupboardSearchEnv, CupboardSearchVectorEnv
+from tactile_search.envs.config import MAP_MODES
 
 ENV_ID = "tactile_search/CupboardSearch-v0"
-MODES = ["gpis", "occupancy", "none"]
+MODES = list(MAP_MODES)
 
 
 @pytest.mark.parametrize("mode", MODES)

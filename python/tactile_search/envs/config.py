@@ -19,6 +19,8 @@ from tactile_search import _core
 
 #: The core's settings table: one dict per setting (key, type, default, range, choices, doc).
 SETTINGS: tuple[dict[str, Any], ...] = tuple(_core.EpisodeBatch.settings())
+#: The map modes, as the core names them (``gpis``, ``occupancy``, ``none``).
+MAP_MODES: tuple[str, ...] = next(s["choices"] for s in SETTINGS if s["key"] == "map")
 #: The keys that configure the physical scene (a subset of ``SETTINGS``).
 SCENE_KEYS: frozenset[str] = frozenset(s["key"] for s in _core.Scene.settings())
 
