@@ -47,7 +47,7 @@ class Hand:
             finger_length=g["finger_length"],
             finger_half_thickness=g["finger_half_thickness"],
             arm_length=g["arm_length"],
-            start_y=g["start"][1],
+            start_y=g["hand_start"][1],
         )
 
 

@@ -13,7 +13,7 @@ use pyo3::types::PyDict;
 
 use super::arrays::{count, grid, grid_values, mask, matrix, points, vector};
 use super::errors::{wrong_type, wrong_value};
-use super::settings::config_from;
+use super::settings::{config_dict, config_from};
 use crate::episode::level_set::zero_level_segments as level_set_segments;
 use crate::episode::metrics::{footprints_mask, interior_iou as map_iou};
 use crate::episode::outline;
@@ -246,9 +246,9 @@ pub(super) fn spurious_distance(
 }
 
 /// The hand's sizes for a scene configuration (a dict of scene keys and/or keyword
-/// arguments, as `Scene` takes): the settings `wrist_half_extent`, `arm_length`,
-/// `arm_half_width`, `finger_length`, `finger_half_thickness`, `start`, and the derived
-/// `joint_offset` (wrist centre to finger joint) and `reach` (wrist centre to fingertip).
+/// arguments, as `Scene` takes): every hand setting by its key (`wrist_half_extent`,
+/// `finger_length`, `hand_start`, ...), and the derived `joint_offset` (wrist centre to
+/// finger joint) and `reach` (wrist centre to fingertip).
 #[pyfunction]
 #[pyo3(signature = (config = None, **kwargs))]
 pub(super) fn hand_geometry<'py>(
@@ -262,13 +262,7 @@ pub(super) fn hand_geometry<'py>(
         config_from::<SceneConfig>(config, kwargs)?
     };
     let hand = &scene.hand;
-    let d = PyDict::new(py);
-    d.set_item("wrist_half_extent", hand.wrist_half_extent)?;
-    d.set_item("arm_length", hand.arm_length)?;
-    d.set_item("arm_half_width", hand.arm_half_width)?;
-    d.set_item("finger_length", hand.finger_length)?;
-    d.set_item("finger_half_thickness", hand.finger_half_thickness)?;
-    d.set_item("start", hand.start)?;
+    let d = config_dict(py, hand)?;
     d.set_item("joint_offset", joint_offset(hand))?;
     d.set_item("reach", reach(hand))?;
     Ok(d)
