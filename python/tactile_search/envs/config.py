@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import inspect
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from typing import Any
 
 from tactile_search import _core
@@ -93,13 +93,24 @@ def with_settings_signature(function: Callable[..., Any]) -> Callable[..., Any]:
     return function
 
 
+def markdown_table(header: list[str], rows: Iterable[list[object]]) -> str:
+    """A Markdown table (for the generated docstring tables); ``|`` in a cell is escaped."""
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for row in rows:
+        lines.append("| " + " | ".join(str(cell).replace("|", "\\|") for cell in row) + " |")
+    return "\n".join(lines)
+
+
 def arguments_table() -> str:
     """A Markdown table of every setting: key, type, default, range and meaning."""
-    rows = ["| argument | type | default | range | meaning |", "|---|---|---|---|---|"]
-    for s in SETTINGS:
-        valid = s["range"] or (" / ".join(repr(c) for c in s["choices"]) if s["choices"] else "")
-        doc = s["doc"].replace("|", "\\|")
-        rows.append(
-            f"| ``{s['key']}`` | ``{s['type']}`` | ``{s['default']!r}`` | {valid} | {doc} |"
-        )
-    return "\n".join(rows)
+
+    def valid(s: dict[str, Any]) -> str:
+        return s["range"] or " / ".join(repr(c) for c in s["choices"])
+
+    return markdown_table(
+        ["argument", "type", "default", "range", "meaning"],
+        (
+            [f"``{s['key']}``", f"``{s['type']}``", f"``{s['default']!r}``", valid(s), s["doc"]]
+            for s in SETTINGS
+        ),
+    )

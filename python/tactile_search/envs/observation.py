@@ -8,7 +8,7 @@ from __future__ import annotations
 from typing import Any
 
 from tactile_search import _core
-from tactile_search.envs.config import arguments_table
+from tactile_search.envs.config import arguments_table, markdown_table
 
 LAYOUT: dict[str, Any] = _core.observation_layout()
 #: Index of each proprio entry, by name (``x``, ``y``, ``cos_yaw``, ... ``time_left``).
@@ -26,22 +26,21 @@ STEP_INFO: dict[str, tuple[str, str]] = {
 
 def proprio_table() -> str:
     """The proprio entries as a markdown table (for the env's docstring)."""
-    rows = ["| index | name | scale | meaning |", "|---|---|---|---|"]
-    rows += [
-        f"| {f['index']} | ``{f['name']}`` | {f['scale']} | {f['meaning']} |"
-        for f in LAYOUT["proprio"]
-    ]
-    return "\n".join(rows)
+    return markdown_table(
+        ["index", "name", "scale", "meaning"],
+        ([f["index"], f"``{f['name']}``", f["scale"], f["meaning"]] for f in LAYOUT["proprio"]),
+    )
 
 
 def map_channel_table() -> str:
     """The map channels as a markdown table (for the env's docstring)."""
-    rows = ["| map | channel | name | pixel value |", "|---|---|---|---|"]
-    rows += [
-        f"| ``{c['mode']}`` | {c['channel']} | ``{c['name']}`` | {c['encoding']} |"
-        for c in LAYOUT["map_channels"]
-    ]
-    return "\n".join(rows)
+    return markdown_table(
+        ["map", "channel", "name", "pixel value"],
+        (
+            [f"``{c['mode']}``", c["channel"], f"``{c['name']}``", c["encoding"]]
+            for c in LAYOUT["map_channels"]
+        ),
+    )
 
 
 def fill_docstring(doc: str) -> str:
