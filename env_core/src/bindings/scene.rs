@@ -131,28 +131,35 @@ impl PyScene {
 
     /// The first look taken at reset, as a dict of arrays: depth (H, W), labels (H, W),
     /// cloud (N, 3), cloud_labels (N,), slice (M, 2), slice_clean (M, 2), slice_labels (M,).
+    /// The whole image is rendered on each read (a few ms).
     #[getter]
     fn first_look<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        capture_dict(py, self.inner.first_look())
+        let inner = &self.inner;
+        let look = py.detach(|| inner.first_look());
+        capture_dict(py, &look)
     }
 
-    /// Depth image of the first look, (H, W) float64, NaN where nothing was hit.
+    /// Depth image of the first look, (H, W) float64, NaN where nothing was hit (rendered on
+    /// each read).
     #[getter]
     fn depth_image<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let image = &self.inner.first_look().image;
-        array2(py, image.height, image.width, image.depth.clone())
+        let inner = &self.inner;
+        let image = py.detach(|| inner.first_look().image);
+        array2(py, image.height, image.width, image.depth)
     }
 
-    /// Back-projected 3D cloud of the first look, (N, 3) float64.
+    /// Back-projected 3D cloud of the first look, (N, 3) float64 (rendered on each read).
     #[getter]
     fn cloud<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        rows_array(py, &self.inner.first_look().cloud)
+        let inner = &self.inner;
+        let look = py.detach(|| inner.first_look());
+        rows_array(py, &look.cloud)
     }
 
-    /// The noisy, thinned 2D slice of the first look, (M, 2) float64.
+    /// The noisy, thinned 2D slice of the first look, (M, 2) float64 (kept from reset).
     #[getter]
     fn slice_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        rows_array(py, &self.inner.first_look().slice)
+        rows_array(py, self.inner.first_slice())
     }
 
     /// Tactile readings after the last step (with noise): points (K, 2), normals (K, 2),

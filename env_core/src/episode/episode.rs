@@ -92,7 +92,7 @@ impl Episode {
             APPROACH_CLEARANCE,
         );
         let camera = self.camera_xy();
-        let slice = &self.scene.first_look().slice;
+        let slice = self.scene.first_slice();
         if let Some(gpis) = &mut self.gpis {
             gpis.clear();
             let prior = depth_prior(slice, camera, &self.grid, &self.config.map)?;

@@ -12,7 +12,7 @@
 //!   cross-section at a pose (signed distance, outline, support).
 //! - [`layout`]: the seeded generator hiding the target and keeping a corridor to it.
 //! - [`visibility`]: the target's visible fraction, by ray casting.
-//! - [`ray_cast`]: exact ray casts, candidates from rapier's query pipeline.
+//! - [`ray_cast`]: exact ray casts against the walls and jars the camera sees.
 //! - [`depth_camera`], [`point_cloud`]: depth image, 3D cloud, 2D slice, noise, thinning.
 //! - [`hand`], [`touch`]: the kinematic wrist and arm, the compliant finger, its readings.
 //! - [`disturbance`]: per-jar displacement and tilt since reset.

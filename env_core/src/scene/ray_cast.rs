@@ -1,17 +1,23 @@
-//! Exact f64 ray casts against the scene's shapes, with rapier's query pipeline (its BVH and
-//! collision-group filter) choosing the candidate colliders.
+//! Exact f64 ray casts against the scene's shapes: what the depth camera and the visibility
+//! measure see.
 //!
-//! Why not `QueryPipeline::cast_ray` alone: parry casts rays on cylinders with GJK in f32,
+//! The camera's targets are few (five walls, at most a few dozen jars), so each ray is tested
+//! against every target's bounding box and cast exactly only where it meets one; the same
+//! targets can be built from a layout at rest, without a physics world.
+//!
+//! Why not `QueryPipeline::cast_ray`: parry casts rays on cylinders with GJK in f32,
 //! which at these scales lands up to ~3 mm off the surface for rays grazing a jar's rim (the
 //! depth test caught points floating above jar tops). Cuboids (walls, square jars) and y-axis
 //! cylinders (round jars) are intersected here in closed form; any other shape falls back to
 //! parry.
 
 use rapier3d::glamx::{DQuat, DVec3};
-use rapier3d::parry::bounding_volume::BoundingVolume;
-use rapier3d::parry::partitioning::BvhNode;
-use rapier3d::parry::query::RayCast;
 use rapier3d::prelude::*;
+
+use super::cupboard::Cupboard;
+use super::depth_camera::LABEL_CUPBOARD;
+use super::groups;
+use super::jar::JarSpec;
 
 /// A ray in f64 with a unit direction.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -90,34 +96,131 @@ pub fn shape_toi(shape: &dyn Shape, pose: &Pose, ray: &Ray64, max_toi: f64) -> O
     }
 }
 
-/// The first collider passing the query's filter that `ray` hits within `max_toi`, and the
-/// distance. Candidates come from the query pipeline's BVH. Cost: O(log n + candidates).
-pub fn first_hit(
-    query: &QueryPipeline<'_>,
-    ray: &Ray64,
-    max_toi: f64,
-) -> Option<(ColliderHandle, f64)> {
-    let coarse = ray.to_parry();
-    // The f32 AABB test is widened a little so that rounding never drops a true candidate.
-    let reach = (max_toi + 1e-3) as Real;
-    let mut best: Option<(ColliderHandle, f64)> = None;
-    for leaf in query.bvh.leaves(|node: &BvhNode| {
-        node.aabb()
-            .loosened(1e-4)
-            .intersects_local_ray(&coarse, reach)
-    }) {
-        let Some((collider, handle)) = query.colliders.get_unknown_gen(leaf) else {
-            continue;
+/// One shape the depth camera can see, placed in the world, with its label and its
+/// world bounding box (f64, slightly widened) for a quick rejection before the exact cast.
+#[derive(Clone)]
+struct RayTarget {
+    pose: Pose,
+    shape: SharedShape,
+    label: i32,
+    lo: [f64; 3],
+    hi: [f64; 3],
+}
+
+/// What the depth camera sees: the cupboard's walls and the jars as exact ray targets, in
+/// a fixed order (walls, then jars by index). Built from a layout at rest (the first look)
+/// or from a world's current poses (a later look); both give the same targets at reset.
+#[derive(Clone)]
+pub struct RayTargets {
+    targets: Vec<RayTarget>,
+}
+
+/// Widening of each target's bounding box, m: far above f32 pose rounding, so the quick
+/// test never rejects a true hit.
+const BOX_SLACK: f64 = 1e-4;
+
+impl RayTargets {
+    fn push(&mut self, pose: Pose, shape: SharedShape, label: i32) {
+        let aabb = shape.compute_aabb(&pose);
+        let (mins, maxs) = (aabb.mins.as_dvec3(), aabb.maxs.as_dvec3());
+        self.targets.push(RayTarget {
+            pose,
+            shape,
+            label,
+            lo: (mins - BOX_SLACK).to_array(),
+            hi: (maxs + BOX_SLACK).to_array(),
+        });
+    }
+
+    /// The walls and the jars of `jars` at their poses in the layout (the scene at reset),
+    /// labelled [`LABEL_CUPBOARD`] and by jar index. Cost: O(walls + jars).
+    pub fn at_rest(cupboard: &Cupboard, jars: &[JarSpec]) -> Self {
+        let mut targets = Self {
+            targets: Vec::with_capacity(cupboard.walls().len() + jars.len()),
         };
-        if !query.filter.test(query.bodies, handle, collider) {
-            continue;
+        for wall in cupboard.walls() {
+            targets.push(wall.pose(), SharedShape::new(wall.shape()), LABEL_CUPBOARD);
         }
-        let limit = best.map_or(max_toi, |(_, t)| t);
-        if let Some(t) = shape_toi(collider.shape(), collider.position(), ray, limit) {
-            if best.is_none_or(|(_, b)| t < b) {
-                best = Some((handle, t));
+        for (index, jar) in jars.iter().enumerate() {
+            targets.push(
+                jar.body_pose() * jar.collider_offset(),
+                jar.shared_shape(),
+                index as i32,
+            );
+        }
+        targets
+    }
+
+    /// The walls and jars of `world` at their current poses (every collider the camera
+    /// sees, in insertion order: walls, then jars). Cost: O(colliders).
+    pub(crate) fn from_world(world: &PhysicsWorld) -> Self {
+        let mut targets = Self {
+            targets: Vec::with_capacity(world.colliders.len()),
+        };
+        for (_, collider) in world.colliders.iter() {
+            if !collider.collision_groups().test(groups::CAMERA_VIEW) {
+                continue;
+            }
+            let label = match collider.user_data {
+                0 => LABEL_CUPBOARD,
+                tag => (tag - 1) as i32,
+            };
+            targets.push(*collider.position(), collider.shared_shape().clone(), label);
+        }
+        targets
+    }
+
+    /// The smallest and largest value of `dot(p − origin, axis)` over the targets' bounding
+    /// boxes: with `axis` a camera's optical axis, the range of z-depths anything can be
+    /// seen at. `None` when there are no targets.
+    pub fn extent_along(&self, origin: [f64; 3], axis: [f64; 3]) -> Option<[f64; 2]> {
+        let mut range: Option<[f64; 2]> = None;
+        for target in &self.targets {
+            for corner in 0..8 {
+                let p: [f64; 3] = std::array::from_fn(|i| {
+                    if corner & (1 << i) == 0 {
+                        target.lo[i]
+                    } else {
+                        target.hi[i]
+                    }
+                });
+                let along: f64 = (0..3).map(|i| (p[i] - origin[i]) * axis[i]).sum();
+                range = Some(match range {
+                    None => [along, along],
+                    Some([lo, hi]) => [lo.min(along), hi.max(along)],
+                });
             }
         }
+        range
     }
-    best
+
+    /// The label of the first target `ray` hits within `max_toi`, and the distance (ties go
+    /// to the earlier target). Cost: O(targets), an exact cast only where the ray meets a
+    /// target's bounding box.
+    pub fn first_hit(&self, ray: &Ray64, max_toi: f64) -> Option<(i32, f64)> {
+        let mut best: Option<(i32, f64)> = None;
+        for target in &self.targets {
+            let limit = best.map_or(max_toi, |(_, t)| t);
+            let (mut t_in, mut t_out) = (0.0f64, limit);
+            let meets_box = (0..3).all(|i| {
+                slab(
+                    ray.origin[i],
+                    ray.dir[i],
+                    target.lo[i],
+                    target.hi[i],
+                    &mut t_in,
+                    &mut t_out,
+                )
+            });
+            if !meets_box {
+                continue;
+            }
+            if let Some(t) = shape_toi(target.shape.as_ref(), &target.pose, ray, limit) {
+                if best.is_none_or(|(_, b)| t < b) {
+                    best = Some((target.label, t));
+                }
+            }
+        }
+        best
+    }
 }

@@ -18,6 +18,7 @@ use super::hand::{Blocker, Hand, HandPose};
 use super::jar::JarSpec;
 use super::layout::Layout;
 use super::point_cloud::{process_depth, DepthCapture, SliceSpec};
+use super::ray_cast::RayTargets;
 use super::touch::{finger_contacts, with_noise, Contact};
 use super::visibility::target_visibility;
 
@@ -25,6 +26,16 @@ use super::visibility::target_visibility;
 const DEPTH_NOISE_STREAM: u64 = 1;
 /// ChaCha stream of the touch noise.
 const TOUCH_NOISE_STREAM: u64 = 2;
+
+/// How the depth camera's looks are cut, thinned and perturbed, from the settings.
+fn slice_spec(config: &SceneConfig) -> SliceSpec {
+    SliceSpec {
+        height: config.slice_height,
+        band: config.camera.slice_band,
+        max_points: config.camera.max_slice_points,
+        noise_std: config.camera.noise_std,
+    }
+}
 
 /// A wrist motion for one scene step, in the world's slice plane.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -80,7 +91,8 @@ pub struct Scene {
     jars: Vec<JarHandles>,
     rest_poses: Vec<Pose>,
     hand: Hand,
-    first_look: DepthCapture,
+    first_slice: Vec<[f64; 2]>,
+    first_look_rng: ChaCha8Rng,
     depth_rng: ChaCha8Rng,
     touch_rng: ChaCha8Rng,
     contacts_true: Vec<Contact>,
@@ -90,7 +102,9 @@ pub struct Scene {
 
 impl Scene {
     /// Builds the scene of `seed`: generates the layout, builds the world, takes the depth
-    /// camera's first look. Cost: layout generation plus one depth render (a few ms).
+    /// camera's first look at the slice (the image rows that reach the slice band only; the
+    /// whole image is rendered when [`Self::first_look`] asks for it). Cost: layout
+    /// generation plus about a millisecond.
     pub fn new(config: SceneConfig, seed: u64) -> Result<Self, SceneError> {
         config.validate()?;
         let cupboard = Cupboard::new(&config.cupboard);
@@ -139,8 +153,8 @@ impl Scene {
             })
             .collect();
         let hand = Hand::insert(&mut world, &config.hand, config.slice_height, &cupboard)?;
-        // Ray casts see nothing before the first step: a zero-length step builds the
-        // broad-phase tree and the contacts without moving anything.
+        // A zero-length step builds the broad phase and the contacts (the touch reading at
+        // reset) without moving anything.
         let dt = world.integration_parameters.dt;
         world.integration_parameters.dt = 0.0;
         world.step();
@@ -154,13 +168,20 @@ impl Scene {
         depth_rng.set_stream(DEPTH_NOISE_STREAM);
         let mut touch_rng = ChaCha8Rng::seed_from_u64(seed);
         touch_rng.set_stream(TOUCH_NOISE_STREAM);
-        let slice = SliceSpec {
-            height: config.slice_height,
-            band: config.camera.slice_band,
-            max_points: config.camera.max_slice_points,
-            noise_std: config.camera.noise_std,
-        };
-        let first_look = process_depth(&camera, camera.render(&world), slice, &mut depth_rng);
+        let first_look_rng = depth_rng.clone();
+        let slice = slice_spec(&config);
+        let at_rest = RayTargets::at_rest(&cupboard, &layout.jars);
+        let band = [
+            slice.height - 0.5 * slice.band,
+            slice.height + 0.5 * slice.band,
+        ];
+        let first_slice = process_depth(
+            &camera,
+            camera.render_band(&at_rest, band),
+            slice,
+            &mut depth_rng,
+        )
+        .slice;
         let mut scene = Self {
             config,
             seed,
@@ -171,7 +192,8 @@ impl Scene {
             jars,
             rest_poses,
             hand,
-            first_look,
+            first_slice,
+            first_look_rng,
             depth_rng,
             touch_rng,
             contacts_true: Vec::new(),
@@ -259,23 +281,33 @@ impl Scene {
     /// Takes a new depth look at the current state (the hand is not seen), drawing fresh
     /// noise; the first look taken at reset stays in [`Self::first_look`]. Cost: one render.
     pub fn capture(&mut self) -> DepthCapture {
-        let slice = SliceSpec {
-            height: self.config.slice_height,
-            band: self.config.camera.slice_band,
-            max_points: self.config.camera.max_slice_points,
-            noise_std: self.config.camera.noise_std,
-        };
+        let image = self.camera.render(&RayTargets::from_world(&self.world));
         process_depth(
             &self.camera,
-            self.camera.render(&self.world),
-            slice,
+            image,
+            slice_spec(&self.config),
             &mut self.depth_rng,
         )
     }
 
-    /// The depth camera's look at reset (paper: before reaching in).
-    pub fn first_look(&self) -> &DepthCapture {
-        &self.first_look
+    /// The depth camera's look at reset (paper: before reaching in), whole: the image of the
+    /// jars where the layout put them, its cloud and the slice with the noise drawn at
+    /// reset. Rendered on each call (a few ms); its slice is [`Self::first_slice`].
+    pub fn first_look(&self) -> DepthCapture {
+        let image = self
+            .camera
+            .render(&RayTargets::at_rest(&self.cupboard, &self.layout.jars));
+        process_depth(
+            &self.camera,
+            image,
+            slice_spec(&self.config),
+            &mut self.first_look_rng.clone(),
+        )
+    }
+
+    /// The noisy slice of the first look: what the map starts from. Cost: none (kept).
+    pub fn first_slice(&self) -> &[[f64; 2]] {
+        &self.first_slice
     }
 
     /// The configuration.
