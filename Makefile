@@ -42,10 +42,11 @@ test: build-dev lint ## cargo fmt/clippy, ruff, cargo test and pytest
 paper: build ## regenerate docs/paper/ figures and docs/PAPER.md's table (experiments/paper)
 	$(PY) -m experiments.paper --out docs/paper
 
-bench: build-dev ## criterion benchmarks and the Python benchmark scripts (prints figures)
+bench: build-dev $(VENV)/.extra-bench ## criterion benchmarks and the Python benchmark scripts (prints figures)
 	cargo bench -p env_core --bench gpis_append
 	cargo bench -p env_core --bench scene
 	$(PY) benchmarks/gpis_append.py --out results/gpis_append.png
+	$(PY) benchmarks/peer_envs.py
 
 stubs: $(VENV)/.extra-dev build ## regenerate the settings part of python/tactile_search/_core.pyi from the core
 	$(PY) scripts/generate_stub.py

@@ -1,9 +1,9 @@
-"""Same seed and actions give the same observations, rewards and infos as before the
-copy-free step path, bit for bit: ``tests/data/rollouts.npz`` was recorded by
-``tests/rollouts.py`` on commit 5c0301c (base ab7be5a plus its lib.rs build fix), for the
-single, the vector and the SB3 env in every map mode (observations compared by sha256 of
-their bytes, proprio and infos as arrays). Intentional change: none in these contents; the
-new ``info["truncated"]`` key is not in the pinned file."""
+"""Same seed and actions give the same observations, rewards and infos as when
+``tests/data/rollouts.npz`` was recorded, bit for bit: for the single, the vector and the SB3
+env in every map mode (observations compared by sha256 of their bytes, proprio and infos as
+arrays). It was recorded by ``tests/rollouts.py`` after the physics and reset speed work
+(see that module for what changed on purpose then); the ``info["truncated"]`` key is not in
+the pinned file."""
 
 from __future__ import annotations
 

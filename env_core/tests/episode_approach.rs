@@ -19,6 +19,7 @@ fn round_jar(x: f64, y: f64, radius: f64) -> JarState {
         position: [x, y, 0.05],
         rotation: [0.0, 0.0, 0.0, 1.0],
         disturbance: Disturbance::default(),
+        asleep: false,
     }
 }
 

@@ -1,13 +1,22 @@
 //! Jars left alone stay put: 1000 physics steps without the hand moving move no jar more than
-//! 0.1 mm (3D, from its pose at reset) and tilt none.
+//! 0.1 mm (3D, from its pose at reset) and tilt none, whether they start asleep (the
+//! default) or are simulated from the first step.
 
 use env_core::scene::{Scene, SceneConfig};
 
 #[test]
 fn jars_left_alone_move_less_than_a_tenth_of_a_millimetre_in_1000_steps() {
-    for (seed, jars) in [(0, [3, 7]), (1, [7, 7]), (2, [7, 7]), (3, [3, 3])] {
+    for (seed, jars, asleep) in [
+        (0, [3, 7], true),
+        (1, [7, 7], true),
+        (0, [3, 7], false),
+        (1, [7, 7], false),
+        (2, [7, 7], false),
+        (3, [3, 3], false),
+    ] {
         let mut config = SceneConfig::default();
         config.layout.jar_count = jars;
+        config.physics.jars_start_asleep = asleep;
         let mut scene = Scene::new(config, seed).expect("scene builds");
         let before = scene.jar_states();
         scene.idle(1000);

@@ -31,6 +31,10 @@ pub struct Episode {
     displacement_sum: f64,
     ended: bool,
     truth: Vec<bool>,
+    /// The jars' poses the truth mask was drawn at: it is redrawn only when one moved.
+    truth_poses: Vec<[f64; 7]>,
+    /// The map's IoU against the truth, until the map or the truth changes.
+    iou: Option<f64>,
     approach: ApproachField,
     last_info: StepInfo,
 }
@@ -63,6 +67,8 @@ impl Episode {
             displacement_sum: 0.0,
             ended: false,
             truth: Vec::new(),
+            truth_poses: Vec::new(),
+            iou: None,
             approach: ApproachField::default(),
             last_info: StepInfo::default(),
         };
@@ -83,6 +89,8 @@ impl Episode {
 
     fn start(&mut self) -> Result<(), EpisodeError> {
         self.steps = 0;
+        self.truth_poses.clear();
+        self.iou = None;
         self.displacement_sum = 0.0;
         self.ended = false;
         self.approach = ApproachField::new(
@@ -126,6 +134,9 @@ impl Episode {
             for c in &readings {
                 occupancy.add_contact(c.point, c.normal);
             }
+            if !readings.is_empty() {
+                self.iou = None;
+            }
         }
         let Some(gpis) = &mut self.gpis else {
             return (count, 0, 0, 0);
@@ -143,6 +154,9 @@ impl Episode {
                 Some(map.skip_below_variance),
             )
             .expect("contacts are finite, inside the bounds and fit the capacity");
+        if report.added_rows > 0 {
+            self.iou = None;
+        }
         let skipped = report.skipped_uninformative + report.rejected_degenerate;
         (count, report.added_rows, skipped, readings.len() - fit)
     }
@@ -171,15 +185,41 @@ impl Episode {
         info.target_distance = self
             .approach
             .distance(fingertip(finger.x, finger.y, finger.yaw, length));
-        footprint_mask(&self.grid, &jars, &mut self.truth);
+        // Resting jars do not move and most steps add nothing to the map: the truth mask and
+        // the IoU are recomputed only when a jar moved or the map changed.
+        let poses = jars.iter().map(|jar| {
+            let [x, y, z] = jar.position;
+            let [qx, qy, qz, qw] = jar.rotation;
+            [x, y, z, qx, qy, qz, qw]
+        });
+        if !poses.clone().eq(self.truth_poses.iter().copied()) {
+            footprint_mask(&self.grid, &jars, &mut self.truth);
+            self.truth_poses.clear();
+            self.truth_poses.extend(poses);
+            self.iou = None;
+        }
         if let Some(gpis) = &self.gpis {
             info.gpis_rows = gpis.n_rows();
-            info.iou = iou(gpis.mean_grid().iter().map(|&m| m < 0.0), &self.truth);
-        } else if let Some(occupancy) = &self.occupancy {
-            let occupied = (0..self.truth.len()).map(|i| occupancy.probability(i) > 0.5);
-            info.iou = iou(occupied, &self.truth);
         }
+        info.iou = match self.iou {
+            Some(iou) => iou,
+            None => *self.iou.insert(self.map_iou()),
+        };
         (info, added)
+    }
+
+    /// IoU of the map's interior against the truth mask (0 without a map).
+    fn map_iou(&self) -> f64 {
+        if let Some(gpis) = &self.gpis {
+            iou(gpis.mean_grid().iter().map(|&m| m < 0.0), &self.truth)
+        } else if let Some(occupancy) = &self.occupancy {
+            iou(
+                (0..self.truth.len()).map(|i| occupancy.probability(i) > 0.5),
+                &self.truth,
+            )
+        } else {
+            0.0
+        }
     }
 
     /// Takes one step. `action` is in [−1, 1]³ (dx, dy, dyaw), scaled by the hand's

@@ -66,7 +66,7 @@ impl ThinPlateKernel {
     pub fn covariance(&self, a: [f64; 2], kind_a: RowKind, b: [f64; 2], kind_b: RowKind) -> f64 {
         let psi = self.psi;
         let d = [a[0] - b[0], a[1] - b[1]];
-        let r = d[0].hypot(d[1]);
+        let r = (d[0] * d[0] + d[1] * d[1]).sqrt();
         match (kind_a.axis(), kind_b.axis()) {
             (None, None) => (2.0 * r - 3.0 * psi) * r * r + psi * psi * psi,
             (None, Some(j)) => 6.0 * d[j] * (psi - r),
@@ -76,6 +76,39 @@ impl ThinPlateKernel {
                 // |d_i d_j / r| <= r, so the term vanishes continuously at r = 0.
                 let cross = if r > 0.0 { 6.0 * d[i] * d[j] / r } else { 0.0 };
                 diagonal - cross
+            }
+        }
+    }
+
+    /// The covariances between f at each of `cells` and the row (`point`, `kind`), into
+    /// `out` (one per cell): a column of the grid's cross-covariance. Equal, bit for bit, to
+    /// [`Self::covariance`]`(cell, Value, point, kind)`; the row's kind is matched once,
+    /// outside the loop, so the loop vectorises. Cost: O(cells).
+    pub fn value_column(
+        &self,
+        cells: &[[f64; 2]],
+        point: [f64; 2],
+        kind: RowKind,
+        out: &mut [f64],
+    ) {
+        let psi = self.psi;
+        let cells = &cells[..out.len()];
+        let distance = |c: &[f64; 2]| {
+            let d = [c[0] - point[0], c[1] - point[1]];
+            (d, (d[0] * d[0] + d[1] * d[1]).sqrt())
+        };
+        match kind.axis() {
+            None => {
+                for (value, cell) in out.iter_mut().zip(cells) {
+                    let (_, r) = distance(cell);
+                    *value = (2.0 * r - 3.0 * psi) * r * r + psi * psi * psi;
+                }
+            }
+            Some(j) => {
+                for (value, cell) in out.iter_mut().zip(cells) {
+                    let (d, r) = distance(cell);
+                    *value = 6.0 * d[j] * (psi - r);
+                }
             }
         }
     }

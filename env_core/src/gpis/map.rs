@@ -24,7 +24,8 @@ use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
-use faer::{Accum, Mat, Par};
+use faer::reborrow::{Reborrow, ReborrowMut};
+use faer::{Accum, Mat, MatMut, Par};
 
 use super::error::GpisError;
 use super::full_recompute::{full_posterior, posterior_from_solved, GridPosterior};
@@ -451,38 +452,48 @@ impl Gpis {
         });
         solve_lower_triangular_in_place(factor.as_ref(), beta_new.as_mut(), Par::Seq);
 
-        // V₂ᵀ = (K*₂ − Vᵀ L₂₁ᵀ) L₂₂⁻ᵀ, computed as G × kept.
-        let mut cache_new = Mat::from_fn(self.cells.len(), kept, |cell, c| {
-            let row = &new_rows[accepted[c]];
-            kernel.covariance(self.cells[cell], RowKind::Value, row.point, row.kind)
-        });
+        // V₂ᵀ = (K*₂ − Vᵀ L₂₁ᵀ) L₂₂⁻ᵀ, computed as G × kept in place, in the cache's new
+        // columns.
+        let n_cells = self.cells.len();
+        self.reserve_rows(n + kept);
+        self.grid_cache_t.resize_with(n_cells, n + kept, |_, _| 0.0);
+        let (old_cache, mut cache_new) = self.grid_cache_t.as_mut().split_at_col_mut(n);
+        for (c, &a) in accepted.iter().enumerate() {
+            let row = &new_rows[a];
+            kernel.value_column(
+                &self.cells,
+                row.point,
+                row.kind,
+                column_mut(&mut cache_new, c),
+            );
+        }
         matmul(
-            cache_new.as_mut(),
+            cache_new.rb_mut(),
             Accum::Add,
-            self.grid_cache_t.as_ref(),
+            old_cache.rb(),
             w_kept.as_ref(),
             -1.0,
             Par::Seq,
         );
         solve_lower_triangular_in_place(
             factor.as_ref(),
-            cache_new.as_mut().transpose_mut(),
+            cache_new.rb_mut().transpose_mut(),
             Par::Seq,
         );
         for c in 0..kept {
             let b = beta_new[(c, 0)];
-            let column = cache_new.col(c);
-            for (cell, &v) in column.iter().enumerate() {
-                self.mean[cell] += v * b;
-                self.variance[cell] -= v * v;
+            let column = column_mut(&mut cache_new, c);
+            for ((mean, variance), &v) in self.mean.iter_mut().zip(&mut self.variance).zip(&*column)
+            {
+                *mean += v * b;
+                *variance -= v * v;
             }
         }
         for v in &mut self.variance {
             *v = v.max(0.0);
         }
 
-        // Grow L by [L₂₁ L₂₂] and the cache by V₂, then record the rows.
-        self.reserve_rows(n + kept);
+        // Grow L by [L₂₁ L₂₂] (the cache holds V₂ already), then record the rows.
         self.chol.resize_with(n + kept, n + kept, |i, j| {
             if i < n {
                 0.0
@@ -494,10 +505,6 @@ impl Gpis {
                 0.0
             }
         });
-        self.grid_cache_t
-            .resize_with(self.cells.len(), n + kept, |cell, j| {
-                cache_new[(cell, j - n)]
-            });
         for (c, &a) in accepted.iter().enumerate() {
             self.rows.push(new_rows[a]);
             self.observed.push(new_observed[a]);
@@ -572,4 +579,15 @@ impl Gpis {
             &self.cells,
         )
     }
+}
+
+/// Column `c` of a column-major matrix view as a slice (the grid cache's columns are
+/// contiguous: its rows are the grid's cells).
+fn column_mut<'a>(matrix: &'a mut MatMut<'_, f64>, c: usize) -> &'a mut [f64] {
+    matrix
+        .rb_mut()
+        .col_mut(c)
+        .try_as_col_major_mut()
+        .expect("the grid cache is column-major")
+        .as_slice_mut()
 }

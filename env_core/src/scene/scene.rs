@@ -72,6 +72,8 @@ pub struct JarState {
     pub rotation: [f64; 4],
     /// Disturbance since reset.
     pub disturbance: Disturbance,
+    /// Whether rapier has it asleep (at rest, costing no contact or solver work).
+    pub asleep: bool,
 }
 
 /// Handles of a jar in the world.
@@ -93,6 +95,7 @@ pub struct Scene {
     hand: Hand,
     first_slice: Vec<[f64; 2]>,
     first_look_rng: ChaCha8Rng,
+    sleep_timers_pending: bool,
     depth_rng: ChaCha8Rng,
     touch_rng: ChaCha8Rng,
     contacts_true: Vec<Contact>,
@@ -159,6 +162,14 @@ impl Scene {
         world.integration_parameters.dt = 0.0;
         world.step();
         world.integration_parameters.dt = dt;
+        if config.physics.jars_start_asleep {
+            // Eligible for sleep at once: rapier's own bookkeeping puts the jars (and their
+            // islands) to sleep at the first physics step, before they move. The default
+            // timer comes back after that step (see `physics_step`).
+            for jar in &jars {
+                world.bodies[jar.body].activation_mut().time_until_sleep = 0.0;
+            }
+        }
         let rest_poses = jars
             .iter()
             .map(|j| *world.bodies[j.body].position())
@@ -182,6 +193,7 @@ impl Scene {
             &mut depth_rng,
         )
         .slice;
+        let config_asleep = config.physics.jars_start_asleep;
         let mut scene = Self {
             config,
             seed,
@@ -194,6 +206,7 @@ impl Scene {
             hand,
             first_slice,
             first_look_rng,
+            sleep_timers_pending: config_asleep,
             depth_rng,
             touch_rng,
             contacts_true: Vec::new(),
@@ -252,7 +265,7 @@ impl Scene {
                 let here = self.hand.pose();
                 self.hand.advance(&mut self.world, here);
             }
-            self.world.step();
+            self.physics_step();
         }
         self.steps += 1;
         self.sense_touch();
@@ -274,7 +287,21 @@ impl Scene {
         let here = self.hand.pose();
         for _ in 0..n {
             self.hand.advance(&mut self.world, here);
-            self.world.step();
+            self.physics_step();
+        }
+    }
+
+    /// One physics step. After the first, jars that started asleep get rapier's default
+    /// sleep timer back: a jar woken later sleeps again only after resting that long.
+    fn physics_step(&mut self) {
+        self.world.step();
+        if std::mem::take(&mut self.sleep_timers_pending) {
+            let timer = RigidBodyActivation::default_time_until_sleep();
+            for jar in &self.jars {
+                self.world.bodies[jar.body]
+                    .activation_mut()
+                    .time_until_sleep = timer;
+            }
         }
     }
 
@@ -377,7 +404,8 @@ impl Scene {
             .zip(&self.layout.jars)
             .zip(&self.rest_poses)
             .map(|((handles, spec), rest)| {
-                let pose = *self.world.bodies[handles.body].position();
+                let body = &self.world.bodies[handles.body];
+                let pose = *body.position();
                 let t = pose.translation;
                 let q = pose.rotation;
                 JarState {
@@ -385,6 +413,7 @@ impl Scene {
                     position: [f64::from(t.x), f64::from(t.y), f64::from(t.z)],
                     rotation: [q.x, q.y, q.z, q.w].map(f64::from),
                     disturbance: Disturbance::between(rest, &pose),
+                    asleep: body.is_sleeping(),
                 }
             })
             .collect()

@@ -1,0 +1,276 @@
+"""Throughput of CupboardSearch-v0 beside gymnasium's MuJoCo Pusher-v5 and Ant-v5, in one process.
+
+Every environment is made by ``gymnasium.make`` with its default wrappers (ours:
+OrderEnforcing and PassiveEnvChecker, the time limit being the core's own ``max_steps``;
+the MuJoCo envs: also TimeLimit, 100 steps for Pusher-v5 and 1000 for Ant-v5), and is
+driven by random actions from its own seeded ``action_space``. It measures, per env:
+
+- steps/s over whole episodes: reset when an episode terminates or is truncated, with the
+  resets inside the time (the actions are sampled before each timed stretch, so sampling is
+  not timed). ``--rounds`` rounds; in each, every env in turn runs ``--steps`` steps (the
+  order rotates from round to round). The machine is shared and noisy: alternating in one
+  process spreads its load swings over all envs alike. Reported: the median steps/s over
+  the rounds with min-max, and for each of our map modes its steps/s over Pusher-v5's in
+  the same round, per round and their median.
+- median reset and step times (µs), timed one call at a time with ``time.perf_counter_ns``
+  on the same envs: ``reset(seed=1_000_000 + i)`` for ``--reset-seeds`` layout seeds of the
+  validation range, each followed by its whole episode of random steps, every step timed;
+  the envs take turns seed by seed.
+
+Needs MuJoCo (gymnasium's MuJoCo envs): ``pip install -e '.[bench]'`` (``make bench`` does).
+
+Usage::
+
+    python benchmarks/peer_envs.py [--rounds 5] [--steps 3000] [--maps gpis none]
+        [--reset-seeds 50] [--json results/peer_envs.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.metadata
+import importlib.util
+import json
+import os
+import platform
+import statistics
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+
+import tactile_search  # noqa: F401  (registers tactile_search/CupboardSearch-v0)
+from tactile_search.envs.config import MAP_MODES
+
+OUR_ID = "tactile_search/CupboardSearch-v0"
+REFERENCE_ID = "Pusher-v5"
+PEER_IDS = (REFERENCE_ID, "Ant-v5")
+#: First layout seed of the validation range (DESIGN.md section 7).
+VALIDATION_SEED = 1_000_000
+#: The modules gymnasium's MuJoCo envs import (imageio: its renderer, made with every env).
+MUJOCO_MODULES = ("mujoco", "imageio")
+INSTALL_HINT = "pip install -e '.[bench]'"
+
+
+@dataclass
+class Subject:
+    """One environment under test and what was measured on it."""
+
+    label: str
+    env: gym.Env
+    ours: bool
+    needs_reset: bool = True
+    rates: list[float] = field(default_factory=list)  # steps/s, one per round
+    steps: int = 0  # steps taken in the timed rounds
+    episodes_ended: int = 0  # terminated or truncated in the timed rounds
+    reset_ns: list[int] = field(default_factory=list)
+    step_ns: list[int] = field(default_factory=list)
+
+
+def check_mujoco() -> None:
+    """Exits with a message naming the extra to install if MuJoCo's modules are missing."""
+    missing = [name for name in MUJOCO_MODULES if importlib.util.find_spec(name) is None]
+    if missing:
+        sys.exit(
+            f"peer_envs.py compares with gymnasium's MuJoCo envs, which need "
+            f"{' and '.join(missing)} (not installed). Install the 'bench' extra: "
+            f"{INSTALL_HINT}  (or `make bench`)"
+        )
+
+
+def version(package: str) -> str:
+    """The installed version of ``package``, or ``?``."""
+    try:
+        return importlib.metadata.version(package)
+    except importlib.metadata.PackageNotFoundError:
+        return "?"
+
+
+def header() -> dict[str, Any]:
+    """Versions and cores, as printed and written to the JSON."""
+    usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else None
+    return {
+        "gymnasium": version("gymnasium"),
+        "mujoco": version("mujoco"),
+        "numpy": version("numpy"),
+        "python": platform.python_version(),
+        "tactile_search": version("tactile_search"),
+        "cpu_count": os.cpu_count(),
+        "usable_cpus": usable,
+    }
+
+
+def make_subjects(maps: list[str], seed: int) -> list[Subject]:
+    """Our env once per map mode, then the MuJoCo peers; each reset and its action space
+    seeded with ``seed``."""
+    subjects = [Subject(f"CupboardSearch-v0 map={m}", gym.make(OUR_ID, map=m), True) for m in maps]
+    subjects += [Subject(env_id, gym.make(env_id), False) for env_id in PEER_IDS]
+    for subject in subjects:
+        subject.env.action_space.seed(seed)
+        subject.env.reset(seed=seed)
+        subject.needs_reset = False
+    return subjects
+
+
+def run_steps(subject: Subject, steps: int) -> tuple[int, int]:
+    """``steps`` random steps over whole episodes (reset on termination or truncation, the
+    resets timed too); returns (elapsed ns, episodes ended)."""
+    env = subject.env
+    actions = [env.action_space.sample() for _ in range(steps)]
+    ended = 0
+    start = time.perf_counter_ns()
+    if subject.needs_reset:
+        env.reset()
+    for action in actions:
+        _, _, terminated, truncated, _ = env.step(action)
+        if terminated or truncated:
+            ended += 1
+            env.reset()
+    elapsed = time.perf_counter_ns() - start
+    subject.needs_reset = False
+    return elapsed, ended
+
+
+def throughput(subjects: list[Subject], rounds: int, steps: int, warmup: int) -> None:
+    """Alternating rounds: each subject in turn runs ``steps`` steps per round (the order
+    rotated by one each round); fills ``rates``, ``steps`` and ``episodes_ended``."""
+    for subject in subjects:
+        run_steps(subject, warmup)
+    for r in range(rounds):
+        shift = r % len(subjects)
+        for subject in subjects[shift:] + subjects[:shift]:
+            elapsed, ended = run_steps(subject, steps)
+            subject.rates.append(steps / (elapsed * 1e-9))
+            subject.steps += steps
+            subject.episodes_ended += ended
+
+
+def call_times(subjects: list[Subject], seeds: int) -> None:
+    """``reset(seed=VALIDATION_SEED + i)`` for ``seeds`` seeds and every step of the episode
+    that follows, each call timed on its own; the subjects take turns seed by seed."""
+    for i in range(seeds):
+        for subject in subjects:
+            env = subject.env
+            start = time.perf_counter_ns()
+            env.reset(seed=VALIDATION_SEED + i)
+            subject.reset_ns.append(time.perf_counter_ns() - start)
+            done = False
+            while not done:
+                action = env.action_space.sample()
+                start = time.perf_counter_ns()
+                _, _, terminated, truncated, _ = env.step(action)
+                subject.step_ns.append(time.perf_counter_ns() - start)
+                done = terminated or truncated
+            subject.needs_reset = True
+
+
+def summary(subject: Subject, reference: Subject) -> dict[str, Any]:
+    """The figures of one subject (ratios to ``reference`` for ours)."""
+    figures: dict[str, Any] = {
+        "steps_per_s_rounds": subject.rates,
+        "steps_per_s_median": statistics.median(subject.rates),
+        "steps_per_s_min": min(subject.rates),
+        "steps_per_s_max": max(subject.rates),
+        "mean_episode_length": subject.steps / subject.episodes_ended
+        if subject.episodes_ended
+        else None,
+        "reset_us_median": statistics.median(subject.reset_ns) / 1e3,
+        "step_us_median": statistics.median(subject.step_ns) / 1e3,
+        "resets_timed": len(subject.reset_ns),
+        "steps_timed": len(subject.step_ns),
+    }
+    if subject.ours:
+        ratios = [ours / ref for ours, ref in zip(subject.rates, reference.rates, strict=True)]
+        figures["ratio_to_reference_rounds"] = ratios
+        figures["ratio_to_reference_median"] = statistics.median(ratios)
+    return figures
+
+
+def print_report(meta: dict[str, Any], args: argparse.Namespace, results: dict[str, Any]) -> None:
+    """The table of throughput, reset and step times, then the ratios to Pusher-v5."""
+    print(
+        f"\nthroughput: {args.rounds} alternating rounds of {args.steps} random-action steps "
+        f"per env (after {args.warmup} warm-up steps), whole episodes, resets timed"
+    )
+    print(
+        f"reset/step: medians of reset(seed={VALIDATION_SEED}+i) for {args.reset_seeds} seeds "
+        f"and of every step of those episodes, each call timed on its own\n"
+    )
+    width = max(len(label) for label in results)
+    print(
+        f"{'env':<{width}}  {'steps/s':>8}  {'min-max':>13}  {'ep. len':>7}  "
+        f"{'reset µs':>9}  {'step µs':>8}  {'vs ' + REFERENCE_ID:>13}"
+    )
+    for label, f in results.items():
+        span = f"{f['steps_per_s_min']:.0f}-{f['steps_per_s_max']:.0f}"
+        length = f["mean_episode_length"]
+        ratio = f.get("ratio_to_reference_median")
+        print(
+            f"{label:<{width}}  {f['steps_per_s_median']:8.0f}  {span:>13}  "
+            f"{'-' if length is None else f'{length:.0f}':>7}  "
+            f"{f['reset_us_median']:9.1f}  {f['step_us_median']:8.1f}  "
+            f"{'' if ratio is None else f'{ratio:.3f}x':>13}"
+        )
+    print(f"\nours / {REFERENCE_ID} steps/s, round by round (same round):")
+    for label, f in results.items():
+        if "ratio_to_reference_rounds" in f:
+            rounds = " ".join(f"{r:.3f}" for r in f["ratio_to_reference_rounds"])
+            print(f"  {label:<{width}}  {rounds}  -> median {f['ratio_to_reference_median']:.3f}x")
+    print(
+        f"(steps/s and ratios: medians over rounds; ep. len: steps per ended episode in "
+        f"the rounds; {meta['usable_cpus']} usable cores, shared machine)"
+    )
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
+    parser.add_argument("--rounds", type=int, default=5, help="alternating rounds (default 5)")
+    parser.add_argument(
+        "--steps", type=int, default=3000, help="steps per env per round (default 3000)"
+    )
+    parser.add_argument(
+        "--maps",
+        nargs="+",
+        choices=MAP_MODES,
+        default=["gpis", "none"],
+        help="our map modes to include (default: gpis none)",
+    )
+    parser.add_argument(
+        "--reset-seeds", type=int, default=50, help="seeds for the reset/step timings"
+    )
+    parser.add_argument("--warmup", type=int, default=300, help="untimed steps per env first")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the envs and actions")
+    parser.add_argument("--json", type=Path, default=None, help="write the figures here")
+    args = parser.parse_args(argv)
+    if args.rounds < 1 or args.steps < 1 or args.reset_seeds < 1 or args.warmup < 0:
+        parser.error("--rounds, --steps and --reset-seeds must be >= 1, --warmup >= 0")
+
+    check_mujoco()
+    meta = header()
+    print(
+        f"gymnasium {meta['gymnasium']}, mujoco {meta['mujoco']}, numpy {meta['numpy']}, "
+        f"python {meta['python']}, tactile_search {meta['tactile_search']}; "
+        f"{meta['cpu_count']} CPUs ({meta['usable_cpus']} usable); shared, noisy machine: "
+        f"figures are medians from one run"
+    )
+    subjects = make_subjects(args.maps, args.seed)
+    throughput(subjects, args.rounds, args.steps, args.warmup)
+    call_times(subjects, args.reset_seeds)
+    reference = next(s for s in subjects if s.label == REFERENCE_ID)
+    results = {s.label: summary(s, reference) for s in subjects}
+    print_report(meta, args, results)
+    for subject in subjects:
+        subject.env.close()
+    if args.json is not None:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        settings = {k: str(v) if isinstance(v, Path) else v for k, v in vars(args).items()}
+        document = {"meta": meta, "settings": settings, "envs": results}
+        args.json.write_text(json.dumps(document, indent=2) + "\n")
+        print(f"wrote {args.json}")
+
+
+if __name__ == "__main__":
+    main()
