@@ -46,7 +46,9 @@ bench: build-dev $(VENV)/.extra-bench ## criterion benchmarks and the Python ben
 	cargo bench -p env_core --bench gpis_append
 	cargo bench -p env_core --bench scene
 	$(PY) benchmarks/gpis_append.py --out results/gpis_append.png
-	$(PY) benchmarks/peer_envs.py
+	cargo run --release --quiet -p env_core --example physics_tradeoffs
+	$(PY) -m benchmarks.prior_rows
+	$(PY) benchmarks/peer_envs.py --json results/peer_envs.json
 
 stubs: $(VENV)/.extra-dev build ## regenerate the settings part of python/tactile_search/_core.pyi from the core
 	$(PY) scripts/generate_stub.py

@@ -1,12 +1,15 @@
-//! Criterion benchmarks of the cupboard scene: a scene step (4 physics substeps) and a single
-//! physics step with the finger pressed on a jar, one depth capture (render + cloud + slice),
-//! layout generation, and a whole reset (layout + world + first look).
+//! Criterion benchmarks of the cupboard scene and the episode's reset: a scene step in free
+//! motion and with the finger pressed on a jar (the default physics substeps), a single
+//! physics step in contact, one whole depth capture (render + cloud + slice), layout
+//! generation, a scene reset (layout + world + the first look's slice), and an episode reset
+//! (scene, prior, map, metrics) with the GPIS map and with none.
 //!
 //! Run: `cargo bench -p env_core --bench scene` (append `-- --quick` on a noisy machine).
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use env_core::episode::{Episode, EpisodeConfig, MapMode};
 use env_core::scene::{
     Cupboard, DepthCamera, HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig,
 };
@@ -38,9 +41,30 @@ fn pressed_scene() -> Scene {
 }
 
 fn bench_physics(c: &mut Criterion) {
+    let mut scene = Scene::new(SceneConfig::default(), 1).expect("scene builds");
+    let mut k = 0u64;
+    c.bench_function("scene_step_free_motion", |b| {
+        b.iter(|| {
+            // Sideways in front of the opening, touching nothing.
+            k += 1;
+            let dx = if (k / 5) % 2 == 0 { 0.01 } else { -0.01 };
+            black_box(
+                scene
+                    .step(HandCommand {
+                        dx,
+                        ..Default::default()
+                    })
+                    .expect("finite"),
+            );
+        })
+    });
+    assert!(
+        scene.true_contacts().is_empty(),
+        "free motion touched a jar"
+    );
     let mut scene = pressed_scene();
     let mut k = 0u64;
-    c.bench_function("scene_step_finger_in_contact (4 substeps)", |b| {
+    c.bench_function("scene_step_finger_in_contact", |b| {
         b.iter(|| {
             // Slide back and forth along the jar so the contact stays live.
             k += 1;
@@ -84,7 +108,7 @@ fn bench_layout(c: &mut Criterion) {
         })
     });
     let mut seed = 0u64;
-    c.bench_function("scene_reset (layout + world + first look)", |b| {
+    c.bench_function("scene_reset (layout + world + first look's slice)", |b| {
         b.iter(|| {
             seed += 1;
             black_box(Scene::new(config.clone(), seed).expect("scene"))
@@ -92,5 +116,29 @@ fn bench_layout(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, bench_physics, bench_depth, bench_layout);
+fn bench_episode_reset(c: &mut Criterion) {
+    for (name, mode) in [
+        ("episode_reset_gpis", MapMode::Gpis),
+        ("episode_reset_none", MapMode::None),
+    ] {
+        let mut config = EpisodeConfig::default();
+        config.map.mode = mode;
+        let mut episode = Episode::new(config, 0).expect("episode starts");
+        let mut seed = 1_000_000u64;
+        c.bench_function(name, |b| {
+            b.iter(|| {
+                seed += 1;
+                episode.reset(seed).expect("reset");
+            })
+        });
+    }
+}
+
+criterion_group!(
+    benches,
+    bench_physics,
+    bench_depth,
+    bench_layout,
+    bench_episode_reset
+);
 criterion_main!(benches);

@@ -178,16 +178,19 @@ class SceneSettings(TypedDict, total=False):
     Range [0, inf).
     """
     dt: float
-    """Physics time step, s (larger steps make the light finger unstable). Default
-    0.008333333333333333. Range (0, 0.02].
+    """Physics time step, s; `dt` times `substeps` is the time one hand command takes (1/60 s at
+    the defaults). Default 0.008333333333333333. Range (0, 0.02].
     """
     substeps: int
-    """Physics steps per hand command. Default 2. Range [1, 1000]."""
+    """Physics steps per hand command. Two of 1/120 s cost half of four of 1/240 s; a compliant
+    finger sweeping along a jar then slides it about 0.1 mm instead of 0.02 mm (the scene's
+    bound is 2 mm). The `physics_tradeoffs` example measures each choice. Default 2. Range [1,
+    1000].
+    """
     solver_iterations: int
     """Solver iterations per physics step (rapier runs each as a small substep of the velocity
-    solve). Four keep every contact property the scene's tests check; eight halve the jar's
-    slip under a sweeping finger (from ~30 to ~15 µm) at twice the solver's cost. Default 4.
-    Range [1, 100].
+    solve). Four keep every contact property the scene's tests check; eight halve a swept
+    jar's slide at about 1.5 times the step's cost. Default 4. Range [1, 100].
     """
     jars_start_asleep: bool
     """Jars start asleep, where the layout placed them: a jar nothing touches costs no contact or

@@ -83,12 +83,13 @@ impl ApproachField {
         }
         let [[x0, x1], [y0, y1]] = grid.bounds();
         let (cell_w, cell_h) = ((x1 - x0) / w as f64, (y1 - y0) / h as f64);
+        let lengths = NEIGHBOURS.map(|(di, dj)| (di as f64 * cell_h).hypot(dj as f64 * cell_w));
         while let Some(Frontier { distance: d, cell }) = heap.pop() {
             if d > distance[cell] {
                 continue;
             }
             let (i, j) = (cell / w, cell % w);
-            for (di, dj) in NEIGHBOURS {
+            for ((di, dj), length) in NEIGHBOURS.into_iter().zip(lengths) {
                 let (Some(ni), Some(nj)) = (i.checked_add_signed(di), j.checked_add_signed(dj))
                 else {
                     continue;
@@ -97,7 +98,6 @@ impl ApproachField {
                     continue;
                 }
                 let next = ni * w + nj;
-                let length = (di as f64 * cell_h).hypot(dj as f64 * cell_w);
                 let candidate = d + length * 0.5 * (step_factor[cell] + step_factor[next]);
                 if candidate < distance[next] {
                     distance[next] = candidate;
