@@ -192,4 +192,6 @@ def test_render_draws_the_scene_beside_the_map_and_writes_a_gif(mode: str, tmp_p
     assert frames[0].shape[1] > 250 * panels
     path = save_gif(frames, tmp_path / "episode.gif")
     assert path.stat().st_size > 1000
-    assert CupboardSearchEnv(map=mode).render() is None
+    # Without a render mode: gymnasium's convention, a warning and None.
+    with pytest.warns(UserWarning, match="render mode"):
+        assert CupboardSearchEnv(map=mode).render() is None

@@ -334,6 +334,8 @@ impl PyEpisodeBatch {
         let hand_config = &self.config.scene.hand;
         d.set_item("finger_length", hand_config.finger_length)?;
         d.set_item("wrist_half_extent", hand_config.wrist_half_extent)?;
+        d.set_item("arm_length", hand_config.arm_length)?;
+        d.set_item("arm_half_width", hand_config.arm_half_width)?;
         let contacts: Vec<[f64; 4]> = scene
             .contacts()
             .iter()

@@ -149,7 +149,14 @@ class CupboardSearchEnv(gym.Env, EzPickle):
         return self._batch.render_state(0)
 
     def render(self) -> np.ndarray | None:
-        if self.render_mode != "rgb_array":
+        """The scene from above beside the map, as an RGB array, in the ``rgb_array`` mode.
+        Without a render mode it warns and returns None (gymnasium's convention). Drawing
+        needs matplotlib: without it this raises an ``ImportError`` naming the extra."""
+        if self.render_mode is None:
+            gym.logger.warn(
+                "You are calling render() without a render mode: make the env with "
+                "render_mode='rgb_array' to get frames."
+            )
             return None
         from tactile_search.render import render_frame
 
