@@ -144,8 +144,9 @@ def _scene_panel(state: dict[str, Any]) -> np.ndarray:
     return panel.image
 
 
-def _map_panel(state: dict[str, Any], key: str, height: int) -> np.ndarray:
-    """One map channel over the map's bounds, with the true outlines, padded to ``height``."""
+def _map_panel(state: dict[str, Any], key: str, outlines: np.ndarray, height: int) -> np.ndarray:
+    """One map channel over the map's bounds, with the true ``outlines`` (a pixel mask of
+    the same panel) in magenta, padded to ``height``."""
     panel = _Panel(state["bounds"])
     values = panel.grid(np.asarray(state[key], dtype=float))
     if key == "mean":
@@ -155,7 +156,7 @@ def _map_panel(state: dict[str, Any], key: str, height: int) -> np.ndarray:
     else:
         top = max(float(np.max(state[key])), 1e-9) if key == "std" else 1.0
         panel.image[:] = _ramp(values / top, SEQUENTIAL)
-    panel.image[_edges(panel.footprints(state["jars"]))] = OUTLINE
+    panel.image[outlines] = OUTLINE
     padded = np.empty((height, panel.width, 3), dtype=np.uint8)
     padded[:] = BACKGROUND
     padded[height - panel.height :] = panel.image
@@ -169,7 +170,8 @@ def render_frame(state: dict[str, Any], map_mode: str) -> np.ndarray:
     magenta."""
     scene = _scene_panel(state)
     keys = {"gpis": ["mean", "std"], "occupancy": ["occupancy"], "none": []}[map_mode]
-    panels = [scene] + [_map_panel(state, key, scene.shape[0]) for key in keys]
+    outlines = _edges(_Panel(state["bounds"]).footprints(state["jars"])) if keys else None
+    panels = [scene] + [_map_panel(state, key, outlines, scene.shape[0]) for key in keys]
     gap = np.empty((scene.shape[0], 4, 3), dtype=np.uint8)
     gap[:] = 255
     parts = [panels[0]]

@@ -194,6 +194,13 @@ impl RayTargets {
         range
     }
 
+    /// Where `ray` meets the (first) target labelled `label` within `max_toi`, the others
+    /// ignored. Cost: O(targets) label comparisons and one exact cast.
+    pub fn toi_on(&self, label: i32, ray: &Ray64, max_toi: f64) -> Option<f64> {
+        let target = self.targets.iter().find(|t| t.label == label)?;
+        shape_toi(target.shape.as_ref(), &target.pose, ray, max_toi)
+    }
+
     /// The label of the first target `ray` hits within `max_toi`, and the distance (ties go
     /// to the earlier target). Cost: O(targets), an exact cast only where the ray meets a
     /// target's bounding box.

@@ -7,12 +7,10 @@
 //! the silhouette is empty). The layout generator keeps it at most
 //! [`crate::scene::LayoutConfig::max_visible_fraction`].
 
-use rapier3d::prelude::*;
-
 use super::cupboard::Cupboard;
 use super::depth_camera::DepthCamera;
 use super::jar::JarSpec;
-use super::ray_cast::shape_toi;
+use super::ray_cast::RayTargets;
 
 /// Pixel counts of the target's silhouette and of its visible part.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -68,43 +66,30 @@ fn pixel_box(camera: &DepthCamera, jar: &JarSpec) -> ([usize; 2], [usize; 2]) {
 }
 
 /// Measures the visibility of `jars[target]` among `jars` and the cupboard's walls, with exact
-/// ray casts on the shapes directly (no physics world needed). Cost: O(pixels under the target's
-/// projected box × (jars + walls)).
+/// ray casts on the shapes directly (the camera's [`RayTargets`] at rest: no physics world
+/// needed). Cost: O(pixels under the target's projected box × (jars + walls)).
 pub fn target_visibility(
     camera: &DepthCamera,
     cupboard: &Cupboard,
     jars: &[JarSpec],
     target: usize,
 ) -> Visibility {
-    let jar_shapes: Vec<(Pose, SharedShape)> = jars
-        .iter()
-        .map(|jar| (jar.body_pose() * jar.collider_offset(), jar.shared_shape()))
-        .collect();
-    let walls: Vec<(Pose, Cuboid)> = cupboard
-        .walls()
-        .iter()
-        .map(|w| (w.pose(), w.shape()))
-        .collect();
+    let targets = RayTargets::at_rest(cupboard, jars);
     let max_toi = camera.max_range();
-    let (target_pose, target_shape) = &jar_shapes[target];
     let ([u0, v0], [u1, v1]) = pixel_box(camera, &jars[target]);
     let mut result = Visibility::default();
     for v in v0..v1 {
         for u in u0..u1 {
             let (ray, _) = camera.pixel_ray(u, v);
-            let Some(t_target) = shape_toi(target_shape.as_ref(), target_pose, &ray, max_toi)
-            else {
+            let Some(t_target) = targets.toi_on(target as i32, &ray, max_toi) else {
                 continue;
             };
             result.silhouette_pixels += 1;
-            let jar_blocks = jar_shapes.iter().enumerate().any(|(i, (pose, shape))| {
-                i != target
-                    && shape_toi(shape.as_ref(), pose, &ray, t_target).is_some_and(|t| t < t_target)
-            });
-            let wall_blocks = walls.iter().any(|(pose, shape)| {
-                shape_toi(shape, pose, &ray, t_target).is_some_and(|t| t < t_target)
-            });
-            if !(jar_blocks || wall_blocks) {
+            // Blocked when a wall or another jar is hit strictly before the target.
+            let blocked = targets
+                .first_hit(&ray, t_target)
+                .is_some_and(|(_, t)| t < t_target);
+            if !blocked {
                 result.visible_pixels += 1;
             }
         }
