@@ -12,16 +12,25 @@ GPIS map). Writes to ``--out``:
 
 - ``results.md``: the table (success rate with its 95 % Wilson interval, steps to success
   as median and quartiles, jar displacement, tips, final map IoU);
-- ``episodes.csv``: one row per agent and episode;
+- ``episodes.csv``: one row per agent and episode, each written as soon as its episode ends;
 - ``success.png``, ``steps.png``, ``learning_curves.png`` (from each run's ``progress.csv``);
 - ``gifs/<agent>.gif``: one example episode per agent (the first held-out seed).
+
+An interrupted evaluation resumes: run the same command again and the rows already in
+``episodes.csv`` are reused, only the missing (agent, seed) episodes run, and the files
+come out as an uninterrupted run writes them. A row is reused only if its ``fingerprint``
+(a hash of the installed tactile_search package, the agents' code and, for a learned agent,
+its ``model.zip``) matches; ``--fresh`` runs everything again.
 """
 
 from __future__ import annotations
 
 import argparse
 import csv
+import hashlib
+import inspect
 import math
+import os
 import statistics
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -30,10 +39,10 @@ from typing import Any
 
 import numpy as np
 
-import tactile_search  # noqa: F401  (registers the environment)
+import tactile_search  # also registers the environment
 from agents.scripted import SCRIPTED_AGENTS
 from agents.scripted.rollout import run_episodes
-from agents.train import TRAIN_LAYOUT_SEEDS
+from agents.train import TRAIN_LAYOUT_SEEDS, write_atomically
 
 EVAL_SEED_START = 1_000_000
 assert EVAL_SEED_START + 100_000 < TRAIN_LAYOUT_SEEDS[0]
@@ -139,21 +148,152 @@ def markdown_table(summaries: Sequence[Summary]) -> str:
 
 
 def make_agent(spec: str) -> tuple[Any, str]:
-    """An agent and its map mode from a scripted name or a run directory."""
+    """An agent and its map mode from a scripted name or a run directory.
+
+    A scripted agent that takes a ``seed`` (the random agent) is made afresh for every
+    episode, seeded with the episode's layout seed (``SeededPerEpisode``)."""
     if spec in SCRIPTED_AGENTS:
-        return SCRIPTED_AGENTS[spec](), "gpis"
+        factory = SCRIPTED_AGENTS[spec]
+        if "seed" in inspect.signature(factory).parameters:
+            return SeededPerEpisode(factory), "gpis"
+        return factory(), "gpis"
     from agents.learned import LearnedAgent
 
     agent = LearnedAgent(Path(spec))
     return agent, agent.map_mode
 
 
+class SeededPerEpisode:
+    """An agent with its own random generator, made afresh at every reset and seeded with
+    the episode's layout seed: an episode's actions then do not depend on the episodes run
+    before it, so an evaluation resumed part-way gives the rows of an uninterrupted one."""
+
+    def __init__(self, factory: Any) -> None:
+        self._factory = factory
+        self._agent = factory(seed=0)
+        self.name: str = self._agent.name
+
+    def reset(self, env: Any, observation: dict, info: dict) -> None:
+        self._agent = self._factory(seed=env.np_random_seed)
+        self._agent.reset(env, observation, info)
+
+    def act(self, observation: dict) -> np.ndarray:
+        return self._agent.act(observation)
+
+
+# The columns of episodes.csv and their types (those of run_episodes' values).
+EPISODE_COLUMNS: dict[str, type] = {
+    "agent": str,
+    "map": str,
+    "seed": int,
+    "success": bool,
+    "steps": int,
+    "tips": int,
+    "jar_displacement": float,
+    "max_jar_displacement": float,
+    "iou": float,
+    "reward": float,
+    "fingerprint": str,
+}
+
+
+def _parse(kind: type, text: str) -> Any:
+    if kind is bool:
+        return {"True": True, "False": False}[text]
+    return kind(text)
+
+
+def episode_row(agent: str, map_mode: str, result: dict[str, Any], fingerprint: str) -> dict:
+    """One row of episodes.csv, each value of its column's type: what ``read_episodes_csv``
+    gives back, so a row written, read back and written again is the same text."""
+    row = {"agent": agent, "map": map_mode, **result, "fingerprint": fingerprint}
+    if set(row) != set(EPISODE_COLUMNS):
+        raise ValueError(
+            f"an episode's summary must have the columns {list(EPISODE_COLUMNS)} of "
+            f"episodes.csv, got {sorted(row)} (a new metric goes into EPISODE_COLUMNS too)"
+        )
+    return {key: kind(row[key]) for key, kind in EPISODE_COLUMNS.items()}
+
+
+def read_episodes_csv(path: Path) -> tuple[list[dict[str, Any]], int]:
+    """The complete, well-formed rows of an episodes.csv, typed as ``run_episodes`` returns
+    them, and how many lines were not (a line cut short by a kill, a file of another layout)."""
+    if not path.is_file():
+        return [], 0
+    with path.open(newline="") as f:
+        lines = f.read().splitlines(keepends=True)
+    if not lines or next(csv.reader([lines[0]]), []) != list(EPISODE_COLUMNS):
+        return [], max(0, len(lines) - 1)
+    rows, bad = [], 0
+    for line in lines[1:]:
+        values = next(csv.reader([line]), [])
+        if not line.endswith("\n") or len(values) != len(EPISODE_COLUMNS):
+            bad += 1
+            continue
+        try:
+            rows.append(
+                {
+                    key: _parse(kind, text)
+                    for (key, kind), text in zip(EPISODE_COLUMNS.items(), values, strict=True)
+                }
+            )
+        except (ValueError, KeyError):
+            bad += 1
+    return rows, bad
+
+
 def write_episodes_csv(path: Path, rows: Sequence[dict[str, Any]]) -> None:
-    """Per-episode rows (agent, map, seed, metrics)."""
-    with path.open("w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+    """Per-episode rows (agent, map, seed, metrics, fingerprint), written atomically."""
+    with (path.with_name(path.name + ".tmp")).open("w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(EPISODE_COLUMNS))
         writer.writeheader()
         writer.writerows(rows)
+    os.replace(path.with_name(path.name + ".tmp"), path)
+
+
+def _digest(paths: Sequence[Path], root: Path) -> bytes:
+    sha = hashlib.sha256()
+    for path in sorted(paths):
+        sha.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes() + b"\0")
+    return sha.digest()
+
+
+def code_fingerprints(agent_specs: Sequence[str]) -> dict[str, str]:
+    """What produced an agent's rows, per spec: a hash of the installed tactile_search
+    package (its Python files and compiled core), the agents' code (``agents/scripted/``,
+    which holds the rollout, and ``agents/learned.py``) and, for a learned agent, its
+    ``model.zip``. Rows of another fingerprint are not reused."""
+    package = Path(tactile_search.__file__).parent
+    env_files = [
+        p
+        for p in package.rglob("*")
+        if p.is_file() and p.suffix in (".py", ".so", ".pyd") and "__pycache__" not in p.parts
+    ]
+    agents_dir = Path(__file__).parent
+    agent_files = [*(agents_dir / "scripted").glob("*.py"), agents_dir / "learned.py"]
+    base = _digest(env_files, package) + _digest(agent_files, agents_dir)
+    fingerprints = {}
+    for spec in agent_specs:
+        sha = hashlib.sha256(base)
+        if spec not in SCRIPTED_AGENTS:
+            sha.update((Path(spec) / "model.zip").read_bytes())
+        fingerprints[spec] = sha.hexdigest()[:16]
+    return fingerprints
+
+
+def unique_names(agents: Sequence[Any], specs: Sequence[str]) -> list[str]:
+    """The agents' names, made unique: learned agents of the same algorithm and map (several
+    training seeds) get their run's seed in the name."""
+    given = [agent.name for agent in agents]
+    names = list(given)
+    for i, (agent, spec) in enumerate(zip(agents, specs, strict=True)):
+        if given.count(agent.name) > 1 and spec not in SCRIPTED_AGENTS:
+            config = agent.config
+            names[i] = f"{config['algo']} ({config['map']} map, seed {config['seed']})"
+    repeated = sorted({name for name in names if names.count(name) > 1})
+    if repeated:
+        raise ValueError(f"each agent may be evaluated once, got {repeated} more than once")
+    return names
 
 
 def plot_success(path: Path, summaries: Sequence[Summary]) -> None:
@@ -237,7 +377,10 @@ def record_gif(
     run_episodes(
         agent, [seed], max_steps=max_steps, on_step=capture, map=map_mode, render_mode="rgb_array"
     )
-    save_gif(frames, path)
+    # Through a temporary file: a GIF that exists is a whole one.
+    tmp = path.with_name(f"{path.stem}.tmp.gif")
+    save_gif(frames, tmp)
+    os.replace(tmp, path)
 
 
 def evaluate(
@@ -248,6 +391,7 @@ def evaluate(
     gifs: bool = True,
     gif_steps: int = 200,
     torch_threads: int = 1,
+    resume: bool = True,
 ) -> list[Summary]:
     """Runs every agent on the same held-out layouts and writes the table, plots and GIFs.
 
@@ -255,9 +399,19 @@ def evaluate(
     directories of ``agents.train``. ``gif_steps`` caps the steps an example GIF shows.
     ``torch_threads``: one thread predicts a single observation fastest (more threads only
     add synchronisation, and spin against anything else running).
+
+    Each episode's row is appended to ``<out>/episodes.csv`` (and flushed) as the episode
+    ends. With ``resume`` (the default) the rows already there whose agent, map, held-out
+    seed and fingerprint (``code_fingerprints``) match are reused and only the other
+    episodes run; the other rows are dropped. An agent's GIF is kept if it exists and some
+    of the agent's rows were reused (it was drawn by the same code), otherwise drawn. At the
+    end ``episodes.csv`` is rewritten in the order an uninterrupted run writes it (agents as
+    given, seeds ascending), so a resumed evaluation's files equal an uninterrupted one's.
     """
     if not agent_specs:
         raise ValueError("give at least one agent (a scripted name or a run directory)")
+    if not isinstance(resume, bool):
+        raise TypeError(f"resume must be a bool, got {type(resume).__name__}")
     if any(spec not in SCRIPTED_AGENTS for spec in agent_specs):
         import torch
 
@@ -265,28 +419,77 @@ def evaluate(
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     seeds = held_out_seeds(episodes)
-    summaries, all_episodes, rows, names = [], [], [], []
+    made = [make_agent(spec) for spec in agent_specs]
+    names = unique_names([agent for agent, _ in made], agent_specs)
+    fingerprints = code_fingerprints(agent_specs)
+    wanted = {
+        (name, map_mode, seed, fingerprints[spec])
+        for name, (_, map_mode), spec in zip(names, made, agent_specs, strict=True)
+        for seed in seeds
+    }
+    csv_path = out / "episodes.csv"
+    earlier, unreadable = read_episodes_csv(csv_path) if resume else ([], 0)
+    done: dict[tuple[str, int], dict[str, Any]] = {}
+    for row in earlier:
+        key = (row["agent"], row["map"], row["seed"], row["fingerprint"])
+        if key in wanted:
+            done[row["agent"], row["seed"]] = row
+    if earlier or unreadable:
+        dropped = len(earlier) + unreadable - len(done)
+        print(
+            f"reusing {len(done)} episodes of {csv_path}"
+            + (
+                f" (dropped {dropped}: incomplete, or of other agents, seeds or code)"
+                if dropped
+                else ""
+            ),
+            flush=True,
+        )
+
+    def ordered(name: str) -> list[dict[str, Any]]:
+        return [done[name, seed] for seed in seeds if (name, seed) in done]
+
+    write_episodes_csv(csv_path, [row for name in names for row in ordered(name)])
+    summaries, all_episodes = [], []
     runs: dict[str, Path] = {}
-    for spec in agent_specs:
-        agent, map_mode = make_agent(spec)
-        results = run_episodes(agent, seeds, map=map_mode)
-        summaries.append(summarize(agent.name, map_mode, results))
-        all_episodes.append(results)
-        names.append(agent.name)
-        rows += [{"agent": agent.name, "map": map_mode, **r} for r in results]
-        if spec not in SCRIPTED_AGENTS:
-            runs[agent.name] = Path(spec)
-        if gifs:
-            (out / "gifs").mkdir(exist_ok=True)
-            file_name = agent.name.replace(" ", "_").replace("(", "").replace(")", "")
-            gif_path = out / "gifs" / f"{file_name}.gif"
-            record_gif(gif_path, agent, map_mode, seeds[0], max_steps=gif_steps)
-        print(markdown_table(summaries[-1:]).splitlines()[-1], flush=True)
+    with csv_path.open("a", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(EPISODE_COLUMNS))
+        for spec, name, (agent, map_mode) in zip(agent_specs, names, made, strict=True):
+            reused = bool(ordered(name))
+
+            def keep(
+                result: dict[str, Any],
+                name: str = name,
+                map_mode: str = map_mode,
+                fingerprint: str = fingerprints[spec],
+            ) -> None:
+                row = episode_row(name, map_mode, result, fingerprint)
+                writer.writerow(row)
+                f.flush()
+                done[name, row["seed"]] = row
+
+            todo = [seed for seed in seeds if (name, seed) not in done]
+            if todo:
+                run_episodes(agent, todo, map=map_mode, on_episode=keep)
+            results = ordered(name)
+            summaries.append(summarize(name, map_mode, results))
+            all_episodes.append(results)
+            if spec not in SCRIPTED_AGENTS:
+                runs[name] = Path(spec)
+            if gifs:
+                file_name = name.replace(" ", "_").replace("(", "").replace(")", "")
+                file_name = file_name.replace(",", "")
+                gif_path = out / "gifs" / f"{file_name}.gif"
+                if not (reused and gif_path.is_file()):
+                    gif_path.parent.mkdir(exist_ok=True)
+                    record_gif(gif_path, agent, map_mode, seeds[0], max_steps=gif_steps)
+            print(markdown_table(summaries[-1:]).splitlines()[-1], flush=True)
+    write_episodes_csv(csv_path, [row for name in names for row in ordered(name)])
     table = markdown_table(summaries)
-    (out / "results.md").write_text(
-        f"Held-out layout seeds {seeds[0]}..{seeds[-1]} ({episodes} per agent).\n\n{table}"
+    write_atomically(
+        out / "results.md",
+        f"Held-out layout seeds {seeds[0]}..{seeds[-1]} ({episodes} per agent).\n\n{table}",
     )
-    write_episodes_csv(out / "episodes.csv", rows)
     plot_success(out / "success.png", summaries)
     plot_steps(out / "steps.png", names, all_episodes)
     plot_learning_curves(out / "learning_curves.png", runs)
@@ -307,6 +510,11 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--out", type=Path, default=Path("results"))
     parser.add_argument("--no-gifs", action="store_true")
     parser.add_argument("--gif-steps", type=int, default=200, help="steps shown per GIF")
+    parser.add_argument(
+        "--fresh",
+        action="store_true",
+        help="run every episode again instead of reusing the rows in --out/episodes.csv",
+    )
     args = parser.parse_args(argv)
     summaries = evaluate(
         [*args.runs, *args.scripted],
@@ -314,6 +522,7 @@ def main(argv: list[str] | None = None) -> None:
         episodes=args.episodes,
         gifs=not args.no_gifs,
         gif_steps=args.gif_steps,
+        resume=not args.fresh,
     )
     print(markdown_table(summaries))
 

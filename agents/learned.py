@@ -4,31 +4,71 @@ steps for RecurrentPPO."""
 
 from __future__ import annotations
 
+import zipfile
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-import yaml
 
-from agents.train import algorithm_class
+from agents.train import algorithm_class, read_run_config
+
+
+def load_model(model_path: Path, algo: str) -> Any:
+    """The SB3 model in ``model_path`` (a ``model.zip`` of ``algo``), on the CPU.
+
+    Raises ``ValueError`` naming the file if it is not a complete zip archive or SB3 cannot
+    load it (a truncated or corrupt file, another algorithm's model). The file holds pickled
+    Python objects: load only files from sources you trust.
+    """
+    model_path = Path(model_path)
+    try:
+        with zipfile.ZipFile(model_path) as archive:
+            damaged = archive.testzip()  # reads every member and checks its CRC
+            members = set(archive.namelist())
+    except (zipfile.BadZipFile, OSError, EOFError) as err:
+        raise ValueError(
+            f"{model_path} is not a readable zip archive (truncated or corrupt?): {err}"
+        ) from err
+    if damaged is not None:
+        raise ValueError(f"{model_path} is corrupt: its member {damaged!r} fails its CRC check")
+    if "data" not in members:
+        raise ValueError(
+            f"{model_path} is not a stable-baselines3 model file (truncated or corrupt?): "
+            f"it has no 'data' member, only {sorted(members)}"
+        )
+    try:
+        return algorithm_class(algo).load(model_path, device="cpu")
+    except Exception as err:  # SB3 raises KeyError, pickle and torch errors alike
+        raise ValueError(
+            f"{model_path} does not load as a {algo} model ({type(err).__name__}: {err})"
+        ) from err
 
 
 class LearnedAgent:
-    """The model in ``run_dir`` (``model.zip`` beside the ``config.yml`` that trained it)."""
+    """The model in ``run_dir`` (``model.zip`` beside the ``config.yml`` that trained it).
+
+    Raises ``ValueError`` naming the file and what is wrong when ``run_dir`` lacks either
+    file, its ``config.yml`` is not a mapping with ``algo``, ``map`` and ``versions``, was
+    written by another version of tactile_search, or its ``model.zip`` is truncated,
+    corrupt, not the config's algorithm, or expects other observation or action spaces than
+    ``CupboardSearchEnv(map=<the config's map>)``, the env it is evaluated in.
+
+    Security: an SB3 ``model.zip`` holds pickled Python objects, and loading one runs code
+    the file chooses. Load only models you trained or that come from a source you trust.
+    """
 
     def __init__(
         self, run_dir: Path, name: str | None = None, deterministic: bool = True, seed: int = 0
     ) -> None:
         run_dir = Path(run_dir)
+        self.config: dict[str, Any] = read_run_config(run_dir)
         model_path = run_dir / "model.zip"
-        config_path = run_dir / "config.yml"
-        for path in (model_path, config_path):
-            if not path.is_file():
-                raise ValueError(f"{run_dir} is not a training run: {path.name} is missing")
-        self.config: dict[str, Any] = yaml.safe_load(config_path.read_text())
+        if not model_path.is_file():
+            raise ValueError(f"{run_dir} is not a finished training run: {model_path} is missing")
         self.map_mode: str = self.config["map"]
         self.name = name or f"{self.config['algo']} ({self.map_mode} map)"
-        self.model = algorithm_class(self.config["algo"]).load(model_path, device="cpu")
+        self.model = load_model(model_path, self.config["algo"])
+        self._check_spaces(model_path)
         self._recurrent = self.config["algo"] == "recurrent_ppo"
         # Stochastic actions sample the policy's Gaussian from torch's generator, seeded
         # here, so an evaluation (same agents, same order) repeats exactly.
@@ -39,6 +79,26 @@ class LearnedAgent:
             torch.manual_seed(seed)
         self._state: Any = None
         self._episode_start = np.ones((1,), dtype=bool)
+
+    def _check_spaces(self, model_path: Path) -> None:
+        """The model's spaces against those of the env it will be evaluated in."""
+        from tactile_search import CupboardSearchEnv
+
+        env = CupboardSearchEnv(map=self.map_mode)
+        try:
+            for kind, expected in (
+                ("observation", env.observation_space),
+                ("action", env.action_space),
+            ):
+                got = getattr(self.model, f"{kind}_space")
+                if got != expected:
+                    raise ValueError(
+                        f"{model_path} expects the {kind} space {got}, but the env with the "
+                        f"{self.map_mode!r} map of its config.yml has {expected} (trained with "
+                        "other env settings, or config.yml does not belong to this model)"
+                    )
+        finally:
+            env.close()
 
     def reset(self, env: Any, observation: dict, info: dict) -> None:
         self._state = None

@@ -8,15 +8,20 @@ Two budgets::
 
 ``demo`` trains the GPIS-map and the no-map PPO agents briefly and evaluates on 50
 layouts; ``full`` trains every learned agent (PPO with each map mode and the recurrent
-no-map agent) at its recipe's ``n_timesteps`` and evaluates on 200 layouts. A run whose
-``model.zip`` already exists is reused, so an interrupted pipeline picks up where it stopped
-(delete the run directory to retrain).
+no-map agent) at its recipe's ``n_timesteps`` and evaluates on 200 layouts.
+
+Interrupted at any point (Ctrl-C, a kill), the same command finishes the work without
+redoing what is done: a run whose ``model.zip`` exists is reused (delete the run directory
+to retrain), a partly trained run resumes from its newest checkpoint
+(``agents.train.train(..., resume=True)``), and the evaluation reuses the per-episode rows
+already in ``episodes.csv`` (``agents.evaluate.evaluate``).
 """
 
 from __future__ import annotations
 
 import argparse
 import shutil
+import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,7 +29,7 @@ from pathlib import Path
 import yaml
 
 from agents.evaluate import EVAL_SEED_START, evaluate, markdown_table
-from agents.train import load_hyperparams, run_name, train
+from agents.train import INTERRUPTED_EXIT_STATUS, checkpoints, load_hyperparams, run_name, train
 
 
 @dataclass(frozen=True)
@@ -58,14 +63,19 @@ SCRIPTED = ("random", "gpis_planner", "oracle")
 
 
 def train_all(budget: Budget, seed: int, progress_bar: bool) -> list[Path]:
-    """Trains (or reuses) every learned agent of ``budget``; returns the run directories."""
+    """Trains (or reuses, or resumes) every learned agent of ``budget``; returns the run
+    directories."""
     run_dirs = []
     for algo, map_mode in budget.agents:
         run_dir = budget.runs / run_name(algo, map_mode, seed)
         if (run_dir / "model.zip").is_file():
             print(f"reusing {run_dir}", flush=True)
         else:
-            print(f"training {algo} with the {map_mode} map", flush=True)
+            resume = bool(checkpoints(run_dir))
+            print(
+                f"{'resuming' if resume else 'training'} {algo} with the {map_mode} map",
+                flush=True,
+            )
             train(
                 algo,
                 map_mode,
@@ -73,6 +83,7 @@ def train_all(budget: Budget, seed: int, progress_bar: bool) -> list[Path]:
                 seed=seed,
                 timesteps=budget.timesteps,
                 progress_bar=progress_bar,
+                resume=resume,
             )
         run_dirs.append(run_dir)
     return run_dirs
@@ -172,7 +183,16 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--seed", type=int, default=0, help="training seed")
     parser.add_argument("--no-progress", action="store_true")
     args = parser.parse_args(argv)
-    run(args.budget, args.seed, progress_bar=not args.no_progress)
+    try:
+        run(args.budget, args.seed, progress_bar=not args.no_progress)
+    except KeyboardInterrupt:
+        print(
+            "\ninterrupted: run the same command again to finish (finished runs are reused, a "
+            "partly trained run resumes from its checkpoint, the evaluation from its rows)",
+            file=sys.stderr,
+            flush=True,
+        )
+        sys.exit(INTERRUPTED_EXIT_STATUS)
 
 
 if __name__ == "__main__":

@@ -14,6 +14,7 @@ def run_episodes(
     seeds: list[int],
     max_steps: int | None = None,
     on_step: Callable[[CupboardSearchEnv, int, bool], None] | None = None,
+    on_episode: Callable[[dict[str, Any]], None] | None = None,
     **env_kwargs: Any,
 ) -> list[dict[str, Any]]:
     """One ``CupboardSearchEnv`` episode per seed with ``agent``; per-episode summaries.
@@ -21,7 +22,9 @@ def run_episodes(
     ``max_steps`` defaults to the env's ``max_steps`` (the registered time limit). Each dict:
     seed, success, steps, tips, jar_displacement, max_jar_displacement, iou (final), reward.
     ``on_step(env, step, done)``, if given, is called after the reset (step 0) and after
-    every step (``done``: the episode's last), e.g. to render frames.
+    every step (``done``: the episode's last), e.g. to render frames. ``on_episode(result)``,
+    if given, is called with each episode's summary as soon as the episode ends (e.g. to write
+    it to disk, so that an interrupted evaluation keeps what it finished).
     """
     env = CupboardSearchEnv(**env_kwargs)
     limit = env.config.max_steps if max_steps is None else max_steps
@@ -39,17 +42,18 @@ def run_episodes(
                 on_step(env, step, terminated or step == limit)
             if terminated:
                 break
-        results.append(
-            {
-                "seed": seed,
-                "success": bool(info["success"]),
-                "steps": int(info["steps"]),
-                "tips": int(info["tips"]),
-                "jar_displacement": float(info["jar_displacement"]),
-                "max_jar_displacement": float(info["max_jar_displacement"]),
-                "iou": float(info["iou"]),
-                "reward": total,
-            }
-        )
+        result = {
+            "seed": seed,
+            "success": bool(info["success"]),
+            "steps": int(info["steps"]),
+            "tips": int(info["tips"]),
+            "jar_displacement": float(info["jar_displacement"]),
+            "max_jar_displacement": float(info["max_jar_displacement"]),
+            "iou": float(info["iou"]),
+            "reward": total,
+        }
+        results.append(result)
+        if on_episode is not None:
+            on_episode(result)
     env.close()
     return results

@@ -29,7 +29,7 @@ fn bad_configs_are_refused_with_the_users_key_in_the_message() {
     c.camera.noise_std = -1.0;
     assert!(error_of(c)
         .to_string()
-        .starts_with("depth_noise_std must be in [0, inf)"));
+        .starts_with("depth_noise_std must be in [0, 100]"));
     let mut c = SceneConfig::default();
     c.hand.finger_stiffness = f64::NAN;
     assert!(matches!(

@@ -15,17 +15,17 @@ class SceneSettings(TypedDict, total=False):
 
     slice_height: float
     """Height (z) of the map plane: the camera slice and the hand live there, m. Default 0.055.
-    Range (0, inf).
+    Range (0, 100].
     """
     cupboard_width: float
-    """Interior width along x (centred on x = 0), m. Default 0.6. Range (0, inf)."""
+    """Interior width along x (centred on x = 0), m. Default 0.6. Range (0, 100]."""
     cupboard_depth: float
-    """Interior depth along y (open front at y = 0), m. Default 0.3. Range (0, inf)."""
+    """Interior depth along y (open front at y = 0), m. Default 0.3. Range (0, 100]."""
     cupboard_height: float
-    """Interior height along z (floor top at z = 0), m. Default 0.3. Range (0, inf)."""
+    """Interior height along z (floor top at z = 0), m. Default 0.3. Range (0, 100]."""
     wall_thickness: float
     """Thickness of floor, back, side walls and top, m (thick walls keep a fast hand from
-    tunnelling). Default 0.05. Range (0, inf).
+    tunnelling). Default 0.05. Range (0, 100].
     """
     wall_friction: float
     """Friction coefficient of the walls. Default 0.5. Range [0, inf)."""
@@ -38,13 +38,13 @@ class SceneSettings(TypedDict, total=False):
     target_shape: Literal["round", "square", "any"]
     """Shape of the target; 'any' draws it like the other jars. Default 'any'."""
     round_diameter: tuple[float, float]
-    """Diameter range of round jars, m. Default (0.045, 0.055). Range (0, inf)."""
+    """Diameter range of round jars, m. Default (0.045, 0.055). Range (0, 100]."""
     square_side: tuple[float, float]
-    """Side range of square jars, m. Default (0.045, 0.05). Range (0, inf)."""
+    """Side range of square jars, m. Default (0.045, 0.05). Range (0, 100]."""
     jar_height: tuple[float, float]
-    """Height range of every jar, m. Default (0.1, 0.12). Range (0, inf)."""
+    """Height range of every jar, m. Default (0.1, 0.12). Range (0, 100]."""
     jar_mass: tuple[float, float]
-    """Mass range of every jar, kg. Default (0.1, 0.2). Range (0, inf)."""
+    """Mass range of every jar, kg. Default (0.1, 0.2). Range [0.000001, 1000000]."""
     jar_friction: float
     """Friction coefficient of the jars. Default 0.5. Range [0, inf)."""
     max_visible_fraction: float
@@ -53,20 +53,20 @@ class SceneSettings(TypedDict, total=False):
     1].
     """
     target_min_depth: float
-    """The target's centre is at least this deep (y), m. Default 0.17. Range [0, inf)."""
+    """The target's centre is at least this deep (y), m. Default 0.17. Range [0, 100]."""
     min_gap: float
-    """Minimum gap between the bounding circles of two jars, m. Default 0.008. Range [0, inf)."""
+    """Minimum gap between the bounding circles of two jars, m. Default 0.008. Range [0, 100]."""
     wall_gap: float
     """Minimum gap between a jar's bounding circle and a side or back wall, m. Default 0.008.
-    Range [0, inf).
+    Range [0, 100].
     """
     corridor_width: float
     """Width of the jar-free corridor from the opening to the target's side, m. Default 0.07.
-    Range (0, inf).
+    Range (0, 100].
     """
     corridor_clearance: float
     """Gap between the target's side and the corridor's inner edge, m. Default 0.005. Range [0,
-    inf).
+    100].
     """
     max_attempts: int
     """Attempts before the layout generator gives up. Default 2000. Range [1, inf)."""
@@ -87,20 +87,20 @@ class SceneSettings(TypedDict, total=False):
     camera_cy: float | None
     """Principal point y, px; None puts it at the image centre. Default None. Range (-inf, inf)."""
     camera_position: tuple[float, float, float]
-    """Optical centre in the world, m. Default (0.0, -0.25, 0.075). Range (-inf, inf)."""
+    """Optical centre in the world, m. Default (0.0, -0.25, 0.075). Range [-100, 100]."""
     camera_look_at: tuple[float, float, float]
     """A point on the optical axis, m; the image's up is the world's +z. Default (0.0, 0.3,
-    0.075). Range (-inf, inf).
+    0.075). Range [-100, 100].
     """
     camera_max_range: float
-    """Rays longer than this return no depth, m. Default 2.0. Range (0, inf)."""
+    """Rays longer than this return no depth, m. Default 2.0. Range (0, 100]."""
     slice_band: float
     """Full thickness (z) of the band around the slice height kept for the 2D slice, m. Default
-    0.01. Range (0, inf).
+    0.01. Range (0, 100].
     """
     depth_noise_std: float
     """Standard deviation of the Gaussian noise added to each slice coordinate, m. Default 0.002.
-    Range [0, inf).
+    Range [0, 100].
     """
     max_slice_points: int
     """The slice is thinned (evenly, deterministically) to at most this many points. Default 256.
@@ -109,37 +109,37 @@ class SceneSettings(TypedDict, total=False):
     hand_start: tuple[float, float, float]
     """Start pose of the wrist (x, y, yaw); yaw = 0 points the finger along +y (into the
     cupboard). The default puts the fingertip just outside the opening. Default (0.0, -0.125,
-    0.0). Range (-inf, inf).
+    0.0). Range [-100, 100].
     """
     max_step_translation: float
     """Largest |dx| and |dy| of one command, m; larger commands are clipped. Default 0.01. Range
-    (0, inf).
+    (0, 100].
     """
     max_step_yaw: float
     """Largest |dyaw| of one command, rad; larger commands are clipped. Default 0.1. Range (0,
-    inf).
+    3.141592653589793].
     """
     workspace: tuple[float, float, float, float]
     """Wrist workspace (x_min, x_max, y_min, y_max), m; motion leaving it is stopped. Default
-    (-0.45, 0.45, -0.3, 0.3). Range (-inf, inf).
+    (-0.45, 0.45, -0.3, 0.3). Range [-100, 100].
     """
     wrist_half_extent: float
-    """Half side of the cubic wrist, m. Default 0.015. Range (0, inf)."""
+    """Half side of the cubic wrist, m. Default 0.015. Range (0, 100]."""
     arm_length: float
-    """Length of the arm link behind the wrist, m. Default 0.4. Range (0, inf)."""
+    """Length of the arm link behind the wrist, m. Default 0.4. Range (0, 100]."""
     arm_half_width: float
-    """Half width (and half height) of the arm link, m. Default 0.012. Range (0, inf)."""
+    """Half width (and half height) of the arm link, m. Default 0.012. Range (0, 100]."""
     finger_length: float
-    """Finger length from the joint to the tip, m. Default 0.1. Range (0, inf)."""
+    """Finger length from the joint to the tip, m. Default 0.1. Range (0, 100]."""
     finger_half_thickness: float
-    """Half thickness of the finger in the slice plane, m. Default 0.003. Range (0, inf)."""
+    """Half thickness of the finger in the slice plane, m. Default 0.003. Range (0, 100]."""
     finger_half_height: float
-    """Half height (z) of the finger, m. Default 0.01. Range (0, inf)."""
+    """Half height (z) of the finger, m. Default 0.01. Range (0, 100]."""
     finger_mass: float
     """Finger mass, kg: the rendered inertia, light because the deflection sensed while the wrist
     starts or stops is inertial (about 0.1 rad after a jump to the largest command at the
     defaults, gone within about 0.1 s); it scales with the square root of mass over stiffness.
-    Default 0.005. Range (0, inf).
+    Default 0.005. Range [0.000001, 1000000].
     """
     finger_friction: float
     """Friction coefficient of the finger. Default 0.3. Range [0, inf)."""
@@ -147,11 +147,11 @@ class SceneSettings(TypedDict, total=False):
     """Joint stiffness rendered by the finger motor, N m/rad. The contact force is stiffness
     times deflection over the lever (joint to contact); the default keeps it below what slides
     or tips a 0.1 kg jar for contacts beyond about a quarter of the finger. Default 0.02.
-    Range (0, inf).
+    Range [0.000001, 1000000].
     """
     finger_damping: float
     """Joint damping rendered by the finger motor, N m s/rad (the default is about 0.8 of
-    critical for the default mass and stiffness). Default 0.0009. Range [0, inf).
+    critical for the default mass and stiffness). Default 0.0009. Range [0, 1000000].
     """
     finger_limit: float
     """Joint limit: the finger deflects within (-limit, limit), rad. Default 1.2. Range (0,
@@ -160,18 +160,18 @@ class SceneSettings(TypedDict, total=False):
     rigid_finger: bool
     """A rigid finger (welded to the wrist, no joint): the intrusive baseline. Default False."""
     wall_margin: float
-    """Wrist and arm stop this far from a wall, m. Default 0.001. Range [0, inf)."""
+    """Wrist and arm stop this far from a wall, m. Default 0.001. Range [0, 100]."""
     touch_max_distance: float
     """Manifold points farther apart than this (predicted contacts) are dropped, m. Default
-    0.0005. Range [0, inf).
+    0.0005. Range [0, 100].
     """
     touch_merge_distance: float
     """Readings on one jar closer than this in the slice plane are merged, m. Default 0.001.
-    Range [0, inf).
+    Range [0, 100].
     """
     touch_point_noise_std: float
     """Standard deviation of the Gaussian noise on each contact coordinate, m. Default 0.0005.
-    Range [0, inf).
+    Range [0, 100].
     """
     touch_normal_noise_std: float
     """Standard deviation of the Gaussian rotation of each contact normal, rad. Default 0.02.

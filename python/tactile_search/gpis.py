@@ -50,6 +50,9 @@ class Gpis:
     Raises:
         TypeError: an argument of the wrong kind.
         ValueError: an argument of the right kind with a wrong value.
+        RuntimeError: a call while another thread's call on the same map is running (the
+            map releases the GIL while it computes and serves one thread at a time; give
+            each thread its own map).
     """
 
     def __init__(

@@ -2,7 +2,8 @@
 //! shape checked here (finiteness is checked once, by the core, before any episode moves).
 //!
 //! float64 and float32 numpy arrays (what agents hand over) are read in place; anything
-//! else goes through `numpy.asarray(..., dtype=float64)` first. Cost O(N).
+//! else goes through `numpy.asarray` and, if its dtype is integer or real float, a cast to
+//! float64 (a complex, string, datetime, boolean or object action is refused). Cost O(N).
 
 use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -27,15 +28,30 @@ pub(crate) fn action_rows(
         array.as_array().iter().map(|&v| f64::from(v)).collect()
     } else {
         let py = value.py();
-        let converted = py
+        let not_numeric = || {
+            let got = value.repr().map_or_else(|_| "?".into(), |r| r.to_string());
+            wrong_value(what, NUMERIC, format!("{} {got}", type_name(value)))
+        };
+        let array = py
             .import("numpy")?
-            .call_method1("asarray", (value, "float64"))
-            .map_err(|_| {
-                let got = value.repr().map_or_else(|_| "?".into(), |r| r.to_string());
-                wrong_value(what, NUMERIC, format!("{} {got}", type_name(value)))
-            })?;
+            .call_method1("asarray", (value,))
+            .map_err(|_| not_numeric())?;
+        // Only integers and real floats: numpy would also cast a complex action (dropping
+        // its imaginary part), numeric strings, datetimes and booleans to float64.
+        let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
+        if !matches!(kind.as_str(), "i" | "u" | "f") {
+            let dtype = array.getattr("dtype")?.str()?.to_string();
+            return Err(wrong_value(
+                what,
+                NUMERIC,
+                format!("{} of dtype {dtype}", type_name(value)),
+            ));
+        }
+        let converted = array
+            .call_method1("astype", ("float64",))
+            .map_err(|_| not_numeric())?;
         if converted.cast::<PyArrayDyn<f64>>().is_err() {
-            return Err(wrong_value(what, NUMERIC, type_name(value)));
+            return Err(not_numeric());
         }
         return action_rows(what, &converted, shape);
     };

@@ -16,6 +16,7 @@ use super::actions::action_rows;
 use super::batch_arrays::BatchArrays;
 use super::convert::seed_of;
 use super::errors::{episode_error, episode_index_error, wrong_type, wrong_value};
+use super::exclusive::Exclusive;
 use super::settings::{config_dict, config_from, describe};
 use super::step_info::info_dict;
 use crate::episode::{
@@ -25,17 +26,24 @@ use crate::scene::JarShape;
 use crate::settings::Choice;
 
 /// N episodes with one configuration (see `tactile_search.CupboardSearchEnv`).
-#[pyclass(name = "EpisodeBatch", module = "tactile_search._core")]
+#[pyclass(name = "EpisodeBatch", module = "tactile_search._core", frozen)]
 pub struct PyEpisodeBatch {
-    inner: EpisodeBatch,
+    /// The settings, fixed at construction (readable while another call runs).
     config: EpisodeConfig,
+    num_envs: usize,
+    state: Exclusive<BatchState>,
+}
+
+/// What a call on the batch uses: the episodes and the arrays they write.
+struct BatchState {
+    inner: EpisodeBatch,
     arrays: BatchArrays,
     /// Wall-clock seconds spent with the GIL released in the episodes' work (benchmarks
     /// read it to split a step into its parallel and serial parts).
     parallel_seconds: f64,
 }
 
-impl PyEpisodeBatch {
+impl BatchState {
     fn episode_index(&self, index: usize) -> PyResult<usize> {
         if index < self.inner.len() {
             Ok(index)
@@ -122,18 +130,21 @@ impl PyEpisodeBatch {
             .map_err(|e| episode_error(0, e))?;
         let n = inner.len();
         let map = (config.map.mode != MapMode::None).then_some(config.map.grid_shape);
-        let batch = Self {
+        let state = BatchState {
             inner,
-            config,
             arrays: BatchArrays::new(py, n, map)?,
             parallel_seconds: 0.0,
         };
-        batch.arrays.with_observation(py, |maps, proprio| {
-            batch.inner.write_observations(maps, proprio)
+        state.arrays.with_observation(py, |maps, proprio| {
+            state.inner.write_observations(maps, proprio)
         })??;
         let holds = vec![Command::Hold; n];
-        batch.arrays.write_results(py, &batch.inner, &holds, None)?;
-        Ok(batch)
+        state.arrays.write_results(py, &state.inner, &holds, None)?;
+        Ok(Self {
+            config,
+            num_envs: n,
+            state: Exclusive::new("EpisodeBatch (the core of an environment)", state),
+        })
     }
 
     /// The episode's settings table (the scene's included): one dict per setting with key,
@@ -163,32 +174,39 @@ impl PyEpisodeBatch {
 
     /// Resets episode `index` to `seed` (the GIL released) and writes only its entries of
     /// the batch's arrays (observation, reward 0, flags False, the reset's info).
-    fn reset(&mut self, py: Python<'_>, index: usize, seed: &Bound<'_, PyAny>) -> PyResult<()> {
-        let index = self.episode_index(index)?;
+    fn reset(&self, py: Python<'_>, index: usize, seed: &Bound<'_, PyAny>) -> PyResult<()> {
         let seed = seed_of(seed)?;
-        let mut commands = vec![Command::Hold; self.inner.len()];
+        let mut state = self.state.lock()?;
+        let index = state.episode_index(index)?;
+        let mut commands = vec![Command::Hold; self.num_envs];
         commands[index] = Command::Reset(seed);
-        self.run(py, &commands, Some(index))
+        state.run(py, &commands, Some(index))
     }
 
     /// Resets the episodes of `resets`, a list of (index, seed), in parallel (the GIL
     /// released) and writes their entries of the batch's arrays.
-    fn reset_many(&mut self, py: Python<'_>, resets: &Bound<'_, PyAny>) -> PyResult<()> {
-        let mut commands = vec![Command::Hold; self.inner.len()];
-        self.set_resets(&mut commands, resets)?;
-        self.run(py, &commands, None)
+    fn reset_many(&self, py: Python<'_>, resets: &Bound<'_, PyAny>) -> PyResult<()> {
+        let mut state = self.state.lock()?;
+        let mut commands = vec![Command::Hold; self.num_envs];
+        state.set_resets(&mut commands, resets)?;
+        state.run(py, &commands, None)
     }
 
     /// The batch's observation arrays: maps (N, 2, H, W) uint8 or None, proprio (N, 11)
     /// float32. The same arrays every call, overwritten by every step and reset.
-    fn observe<'py>(&self, py: Python<'py>) -> (Option<Bound<'py, PyAny>>, Bound<'py, PyAny>) {
-        self.arrays.observation(py)
+    #[allow(clippy::type_complexity)]
+    fn observe<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Option<Bound<'py, PyAny>>, Bound<'py, PyAny>)> {
+        Ok(self.state.lock()?.arrays.observation(py))
     }
 
     /// Episode `index`'s observation as a dict of fresh arrays (`"map"`, `"proprio"`).
     fn observation<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyDict>> {
-        let index = self.episode_index(index)?;
-        self.observation_of(py, index)
+        let state = self.state.lock()?;
+        let index = state.episode_index(index)?;
+        state.observation_of(py, index)
     }
 
     /// Steps every episode with its row of `actions` (N, 3) in [-1, 1] (clipped), except
@@ -202,7 +220,7 @@ impl PyEpisodeBatch {
     #[allow(clippy::type_complexity)]
     #[pyo3(signature = (actions, resets = None))]
     fn step<'py>(
-        &mut self,
+        &self,
         py: Python<'py>,
         actions: &Bound<'py, PyAny>,
         resets: Option<&Bound<'py, PyAny>>,
@@ -214,17 +232,18 @@ impl PyEpisodeBatch {
         Bound<'py, PyArray1<bool>>,
         Bound<'py, PyDict>,
     )> {
-        let n = self.inner.len();
+        let n = self.num_envs;
         let mut commands: Vec<Command> = action_rows("actions", actions, &[n, 3])?
             .into_iter()
             .map(Command::Step)
             .collect();
+        let mut state = self.state.lock()?;
         if let Some(resets) = resets {
-            self.set_resets(&mut commands, resets)?;
+            state.set_resets(&mut commands, resets)?;
         }
-        self.run(py, &commands, None)?;
-        let (maps, proprio) = self.arrays.observation(py);
-        let (rewards, terminated, truncated, info) = self.arrays.results(py);
+        state.run(py, &commands, None)?;
+        let (maps, proprio) = state.arrays.observation(py);
+        let (rewards, terminated, truncated, info) = state.arrays.results(py);
         Ok((maps, proprio, rewards, terminated, truncated, info))
     }
 
@@ -233,36 +252,39 @@ impl PyEpisodeBatch {
     /// Python scalars).
     #[allow(clippy::type_complexity)]
     fn step_single<'py>(
-        &mut self,
+        &self,
         py: Python<'py>,
         action: &Bound<'py, PyAny>,
     ) -> PyResult<(Bound<'py, PyDict>, f64, bool, bool, Bound<'py, PyDict>)> {
-        if self.inner.len() != 1 {
+        if self.num_envs != 1 {
             return Err(wrong_value(
                 "step_single's batch",
                 "one episode",
-                format!("{} episodes", self.inner.len()),
+                format!("{} episodes", self.num_envs),
             ));
         }
         let rows = action_rows("action", action, &[3])?;
         let commands = [Command::Step(rows[0])];
-        let inner = &mut self.inner;
+        let mut state = self.state.lock()?;
+        let state = &mut *state;
+        let inner = &mut state.inner;
         let started = Instant::now();
-        let stepped = self.arrays.with_observation(py, |maps, proprio| {
+        let stepped = state.arrays.with_observation(py, |maps, proprio| {
             py.detach(|| inner.run(&commands, maps, proprio))
         });
-        self.parallel_seconds += started.elapsed().as_secs_f64();
+        state.parallel_seconds += started.elapsed().as_secs_f64();
         let stepped = stepped?;
         // A batch of one: report the episode's own error, without "episode 0: ".
         stepped.map_err(|e| match e {
             EpisodeError::InEpisode { source, .. } => PyErr::from(*source),
             other => PyErr::from(other),
         })?;
-        self.arrays
-            .write_results(py, &self.inner, &commands, None)?;
-        let info = self.inner.episodes()[0].last_info();
+        state
+            .arrays
+            .write_results(py, &state.inner, &commands, None)?;
+        let info = state.inner.episodes()[0].last_info();
         Ok((
-            self.observation_of(py, 0)?,
+            state.observation_of(py, 0)?,
             info.reward,
             info.terminated,
             info.truncated,
@@ -273,31 +295,34 @@ impl PyEpisodeBatch {
     /// The oracle's actions (N, 3): it knows the target (the upper-bound baseline).
     fn oracle_actions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let flat: Vec<f64> = self
+            .state
+            .lock()?
             .inner
             .episodes()
             .iter()
             .flat_map(oracle_action)
             .collect();
-        PyArray1::from_vec(py, flat).reshape([self.inner.len(), 3])
+        PyArray1::from_vec(py, flat).reshape([self.num_envs, 3])
     }
 
     /// The metrics of episode `index`'s last reset or step, as a dict of Python scalars.
     fn info<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyDict>> {
-        let index = self.episode_index(index)?;
-        info_dict(py, self.inner.episodes()[index].last_info())
+        let state = self.state.lock()?;
+        let index = state.episode_index(index)?;
+        info_dict(py, state.inner.episodes()[index].last_info())
     }
 
     /// The batch's info arrays: a dict of one array (N,) per key of `step_info_fields()`,
     /// the same arrays every call, overwritten by every step and reset.
-    fn info_arrays<'py>(&self, py: Python<'py>) -> Bound<'py, PyDict> {
-        self.arrays.results(py).3
+    fn info_arrays<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        Ok(self.state.lock()?.arrays.results(py).3)
     }
 
     /// Every episode's info, as a list of dicts of Python scalars (stable-baselines3's
     /// per-env `infos`).
     fn infos<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let infos = PyList::empty(py);
-        for episode in self.inner.episodes() {
+        for episode in self.state.lock()?.inner.episodes() {
             infos.append(info_dict(py, episode.last_info())?)?;
         }
         Ok(infos)
@@ -306,8 +331,9 @@ impl PyEpisodeBatch {
     /// Ground truth and map of episode `index` for rendering: jars, hand, finger, contacts,
     /// target, the map's bounds, and its mean/std (gpis) or occupancy probability grids.
     fn render_state<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyDict>> {
-        let index = self.episode_index(index)?;
-        let episode = &self.inner.episodes()[index];
+        let state = self.state.lock()?;
+        let index = state.episode_index(index)?;
+        let episode = &state.inner.episodes()[index];
         let scene = episode.scene();
         let d = PyDict::new(py);
         let jars = PyList::empty(py);
@@ -362,14 +388,14 @@ impl PyEpisodeBatch {
     /// Wall-clock seconds this batch has spent in its episodes' work with the GIL
     /// released (steps, resets and their observations); the rest of a call is serial.
     #[getter]
-    fn parallel_seconds(&self) -> f64 {
-        self.parallel_seconds
+    fn parallel_seconds(&self) -> PyResult<f64> {
+        Ok(self.state.lock()?.parallel_seconds)
     }
 
     /// Number of episodes.
     #[getter]
     fn num_envs(&self) -> usize {
-        self.inner.len()
+        self.num_envs
     }
 
     /// (H, W) of the map grid.

@@ -16,6 +16,7 @@ mod batch_arrays;
 mod convert;
 mod episode;
 mod errors;
+mod exclusive;
 mod geometry;
 mod gpis;
 mod observation;

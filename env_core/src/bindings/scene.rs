@@ -8,6 +8,7 @@ use pyo3::types::{PyDict, PyList};
 
 use super::convert::{array2, rows_array, seed_of};
 use super::errors::wrong_value;
+use super::exclusive::Exclusive;
 use super::settings::{config_dict, config_from, describe};
 use crate::scene::{Contact, DepthCapture, HandCommand, JarShape, Scene, SceneConfig, StepReport};
 use crate::settings::Settings;
@@ -52,9 +53,9 @@ fn report_dict<'py>(py: Python<'py>, report: &StepReport) -> PyResult<Bound<'py,
 }
 
 /// The cupboard scene (see the module docs of `env_core::scene`).
-#[pyclass(name = "Scene", module = "tactile_search._core")]
+#[pyclass(name = "Scene", module = "tactile_search._core", frozen)]
 pub struct PyScene {
-    inner: Scene,
+    scene: Exclusive<Scene>,
 }
 
 #[pymethods]
@@ -75,7 +76,9 @@ impl PyScene {
             _ => config_from::<SceneConfig>(config, kwargs)?,
         };
         let inner = py.detach(|| Scene::new(config, seed))?;
-        Ok(Self { inner })
+        Ok(Self {
+            scene: Exclusive::new("Scene", inner),
+        })
     }
 
     /// Every setting key, in the table's order.
@@ -95,29 +98,32 @@ impl PyScene {
     /// the configured physics substeps; returns a report dict.
     #[pyo3(signature = (dx = 0.0, dy = 0.0, dyaw = 0.0))]
     fn step<'py>(
-        &mut self,
+        &self,
         py: Python<'py>,
         dx: f64,
         dy: f64,
         dyaw: f64,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let inner = &mut self.inner;
+        let mut scene = self.scene.lock()?;
+        let inner = &mut *scene;
         let report = py.detach(|| inner.step(HandCommand { dx, dy, dyaw }))?;
         report_dict(py, &report)
     }
 
     /// Runs `n` physics steps with the hand held still.
-    fn idle(&mut self, py: Python<'_>, n: i64) -> PyResult<()> {
+    fn idle(&self, py: Python<'_>, n: i64) -> PyResult<()> {
         let n =
             usize::try_from(n).map_err(|_| wrong_value("idle(n): n", "a non-negative int", n))?;
-        let inner = &mut self.inner;
+        let mut scene = self.scene.lock()?;
+        let inner = &mut *scene;
         py.detach(|| inner.idle(n));
         Ok(())
     }
 
     /// A new depth look at the current state (fresh noise), as a dict of arrays.
-    fn capture<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let inner = &mut self.inner;
+    fn capture<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let mut scene = self.scene.lock()?;
+        let inner = &mut *scene;
         let look = py.detach(|| inner.capture());
         capture_dict(py, &look)
     }
@@ -126,7 +132,8 @@ impl PyScene {
     /// dict that `Scene(seed, config=...)` accepts back.
     #[getter]
     fn config<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        config_dict(py, self.inner.config())
+        let scene = self.scene.lock()?;
+        config_dict(py, scene.config())
     }
 
     /// The first look taken at reset, as a dict of arrays: depth (H, W), labels (H, W),
@@ -134,7 +141,8 @@ impl PyScene {
     /// The whole image is rendered on each read (a few ms).
     #[getter]
     fn first_look<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let inner = &self.inner;
+        let scene = self.scene.lock()?;
+        let inner = &*scene;
         let look = py.detach(|| inner.first_look());
         capture_dict(py, &look)
     }
@@ -143,7 +151,8 @@ impl PyScene {
     /// each read).
     #[getter]
     fn depth_image<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let inner = &self.inner;
+        let scene = self.scene.lock()?;
+        let inner = &*scene;
         let image = py.detach(|| inner.first_look().image);
         array2(py, image.height, image.width, image.depth)
     }
@@ -151,7 +160,8 @@ impl PyScene {
     /// Back-projected 3D cloud of the first look, (N, 3) float64 (rendered on each read).
     #[getter]
     fn cloud<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let inner = &self.inner;
+        let scene = self.scene.lock()?;
+        let inner = &*scene;
         let look = py.detach(|| inner.first_look());
         rows_array(py, &look.cloud)
     }
@@ -159,20 +169,23 @@ impl PyScene {
     /// The noisy, thinned 2D slice of the first look, (M, 2) float64 (kept from reset).
     #[getter]
     fn slice_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        rows_array(py, self.inner.first_slice())
+        let scene = self.scene.lock()?;
+        rows_array(py, scene.first_slice())
     }
 
     /// Tactile readings after the last step (with noise): points (K, 2), normals (K, 2),
     /// jars (K,) int64 (ground truth).
     #[getter]
     fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        contacts_dict(py, self.inner.contacts())
+        let scene = self.scene.lock()?;
+        contacts_dict(py, scene.contacts())
     }
 
     /// The same readings without noise.
     #[getter]
     fn true_contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        contacts_dict(py, self.inner.true_contacts())
+        let scene = self.scene.lock()?;
+        contacts_dict(py, scene.true_contacts())
     }
 
     /// Jars: shapes (list of str), half_widths, heights, masses, yaws at reset (n,),
@@ -180,7 +193,8 @@ impl PyScene {
     /// is_target (n,) bool.
     #[getter]
     fn jars<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let states = self.inner.jar_states();
+        let scene = self.scene.lock()?;
+        let states = scene.jar_states();
         let n = states.len();
         let d = PyDict::new(py);
         let shapes: Vec<&str> = states.iter().map(|s| s.spec.shape.name()).collect();
@@ -214,7 +228,7 @@ impl PyScene {
             "tilt",
             PyArray1::from_vec(py, column(&|s| s.disturbance.tilt)),
         )?;
-        let target = self.inner.target();
+        let target = scene.target();
         let is_target: Vec<bool> = (0..n).map(|i| i == target).collect();
         d.set_item("is_target", PyArray1::from_vec(py, is_target))?;
         Ok(d)
@@ -222,37 +236,42 @@ impl PyScene {
 
     /// Index of the target jar.
     #[getter]
-    fn target(&self) -> usize {
-        self.inner.target()
+    fn target(&self) -> PyResult<usize> {
+        let scene = self.scene.lock()?;
+        Ok(scene.target())
     }
 
     /// The target's shape, `"round"` or `"square"`.
     #[getter]
-    fn target_shape(&self) -> &'static str {
-        let layout = self.inner.layout();
-        match layout.jars[layout.target].shape {
+    fn target_shape(&self) -> PyResult<&'static str> {
+        let scene = self.scene.lock()?;
+        let layout = scene.layout();
+        Ok(match layout.jars[layout.target].shape {
             JarShape::Round { .. } => "round",
             JarShape::Square { .. } => "square",
-        }
+        })
     }
 
     /// Visible fraction of the target (visible / silhouette pixels, by ray casting).
     #[getter]
-    fn visible_fraction(&self) -> f64 {
-        self.inner.layout().visibility.fraction()
+    fn visible_fraction(&self) -> PyResult<f64> {
+        let scene = self.scene.lock()?;
+        Ok(scene.layout().visibility.fraction())
     }
 
     /// (silhouette pixels, visible pixels) of the target.
     #[getter]
-    fn target_pixels(&self) -> (usize, usize) {
-        let v = self.inner.layout().visibility;
-        (v.silhouette_pixels, v.visible_pixels)
+    fn target_pixels(&self) -> PyResult<(usize, usize)> {
+        let scene = self.scene.lock()?;
+        let v = scene.layout().visibility;
+        Ok((v.silhouette_pixels, v.visible_pixels))
     }
 
     /// The clear corridor to the target: dict with x (lo, hi), y (lo, hi), side; or None.
     #[getter]
     fn corridor<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        self.inner
+        let scene = self.scene.lock()?;
+        scene
             .layout()
             .corridor
             .map(|c| {
@@ -267,29 +286,33 @@ impl PyScene {
 
     /// The wrist pose (x, y, yaw).
     #[getter]
-    fn hand_pose(&self) -> (f64, f64, f64) {
-        let p = self.inner.hand_pose();
-        (p.x, p.y, p.yaw)
+    fn hand_pose(&self) -> PyResult<(f64, f64, f64)> {
+        let scene = self.scene.lock()?;
+        let p = scene.hand_pose();
+        Ok((p.x, p.y, p.yaw))
     }
 
     /// The finger joint's position and the finger's yaw (x, y, yaw).
     #[getter]
-    fn finger_pose(&self) -> (f64, f64, f64) {
-        let p = self.inner.finger_pose();
-        (p.x, p.y, p.yaw)
+    fn finger_pose(&self) -> PyResult<(f64, f64, f64)> {
+        let scene = self.scene.lock()?;
+        let p = scene.finger_pose();
+        Ok((p.x, p.y, p.yaw))
     }
 
     /// Sensed finger deflection (joint angle), rad.
     #[getter]
-    fn finger_angle(&self) -> f64 {
-        self.inner.finger_angle()
+    fn finger_angle(&self) -> PyResult<f64> {
+        let scene = self.scene.lock()?;
+        Ok(scene.finger_angle())
     }
 
     /// Camera intrinsics and extrinsics: width, height, fx, fy, cx, cy, position (3,),
     /// rotation (3, 3) camera→world (columns right, down, forward).
     #[getter]
     fn camera<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let camera = self.inner.camera();
+        let scene = self.scene.lock()?;
+        let camera = scene.camera();
         let k = camera.intrinsics();
         let d = PyDict::new(py);
         d.set_item("width", k.width)?;
@@ -307,7 +330,8 @@ impl PyScene {
     /// Interior size: dict with width, depth, height (m).
     #[getter]
     fn cupboard<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let c = self.inner.cupboard();
+        let scene = self.scene.lock()?;
+        let c = scene.cupboard();
         let d = PyDict::new(py);
         d.set_item("width", c.width())?;
         d.set_item("depth", c.depth())?;
@@ -317,36 +341,41 @@ impl PyScene {
 
     /// Height of the map plane, m.
     #[getter]
-    fn slice_height(&self) -> f64 {
-        self.inner.config().slice_height
+    fn slice_height(&self) -> PyResult<f64> {
+        let scene = self.scene.lock()?;
+        Ok(scene.config().slice_height)
     }
 
     /// The seed.
     #[getter]
-    fn seed(&self) -> u64 {
-        self.inner.seed()
+    fn seed(&self) -> PyResult<u64> {
+        let scene = self.scene.lock()?;
+        Ok(scene.seed())
     }
 
     /// Scene steps since reset.
     #[getter]
-    fn steps(&self) -> u64 {
-        self.inner.steps()
+    fn steps(&self) -> PyResult<u64> {
+        let scene = self.scene.lock()?;
+        Ok(scene.steps())
     }
 
     /// All body poses and velocities, the hand and the readings, flattened (for determinism
     /// checks), (N,) float64.
     #[getter]
-    fn state_vector<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_vec(py, self.inner.state_vector())
+    fn state_vector<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let scene = self.scene.lock()?;
+        Ok(PyArray1::from_vec(py, scene.state_vector()))
     }
 
-    fn __repr__(&self) -> String {
-        format!(
+    fn __repr__(&self) -> PyResult<String> {
+        let scene = self.scene.lock()?;
+        Ok(format!(
             "Scene(seed={}, jars={}, target={}, steps={})",
-            self.inner.seed(),
-            self.inner.layout().jars.len(),
-            self.inner.target(),
-            self.inner.steps()
-        )
+            scene.seed(),
+            scene.layout().jars.len(),
+            scene.target(),
+            scene.steps()
+        ))
     }
 }

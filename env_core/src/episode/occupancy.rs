@@ -76,14 +76,30 @@ impl OccupancyGrid {
     }
 
     /// A depth ray from `origin` to its `hit`: free along the way, occupied at the hit.
+    /// Samples every half cell, only over the part of the ray inside the grid (a reading
+    /// far away, e.g. under huge depth noise, costs no more than one across the grid); a
+    /// ray with a non-finite end adds nothing.
     pub fn add_ray(&mut self, origin: [f64; 2], hit: [f64; 2]) {
+        if !origin.iter().chain(&hit).all(|v| v.is_finite()) {
+            return;
+        }
         let hit_cell = self.cell_of(hit);
         let (dx, dy) = (hit[0] - origin[0], hit[1] - origin[1]);
         let length = dx.hypot(dy);
         let step = 0.5 * self.cell_size();
         let samples = (length / step) as usize;
+        // Samples outside the grid add nothing and leave `last` as it was: skip those
+        // before the ray enters and after it leaves (one sample of slack on each side).
+        let Some((enter, leave)) = self.inside_span(origin, [dx, dy]) else {
+            self.add(hit, OCCUPIED);
+            return;
+        };
+        let first = ((enter * length / step).floor() as usize).saturating_sub(1);
+        let end = ((leave * length / step).ceil() as usize)
+            .saturating_add(2)
+            .min(samples);
         let mut last = None;
-        for s in 0..samples {
+        for s in first..end {
             let t = s as f64 * step / length;
             let p = [origin[0] + t * dx, origin[1] + t * dy];
             let cell = self.cell_of(p);
@@ -93,6 +109,25 @@ impl OccupancyGrid {
             last = cell.or(last);
         }
         self.add(hit, OCCUPIED);
+    }
+
+    /// The span [enter, leave] of t in [0, 1] where `origin + t·delta` lies inside the
+    /// grid's bounds (the slab method), or None if it never does.
+    fn inside_span(&self, origin: [f64; 2], delta: [f64; 2]) -> Option<(f64, f64)> {
+        let (mut enter, mut leave) = (0.0f64, 1.0f64);
+        for (axis, [low, high]) in self.grid.bounds().into_iter().enumerate() {
+            if delta[axis] == 0.0 {
+                if origin[axis] < low || origin[axis] > high {
+                    return None;
+                }
+                continue;
+            }
+            let a = (low - origin[axis]) / delta[axis];
+            let b = (high - origin[axis]) / delta[axis];
+            enter = enter.max(a.min(b));
+            leave = leave.min(a.max(b));
+        }
+        (enter <= leave).then_some((enter, leave))
     }
 
     /// A contact at `point` with outward `normal` (unit): occupied behind, free in front.

@@ -7,7 +7,7 @@ use thiserror::Error;
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum GpisError {
     /// The grid needs at least one cell along each axis.
-    #[error("grid shape must be positive (H >= 1, W >= 1), got ({height}, {width})")]
+    #[error("grid shape must be positive (H >= 1, W >= 1, H * W < 2^64), got ({height}, {width})")]
     InvalidShape {
         /// Rows of the grid (along y).
         height: usize,
@@ -34,6 +34,28 @@ pub enum GpisError {
         psi: f64,
         /// Diagonal of the map's bounds.
         diagonal: f64,
+    },
+    /// ψ so large that the kernel's values (ψ³) could overflow.
+    #[error(
+        "psi must be at most {max:e} (the kernel grows as psi^3), got {psi:e}: bounds this \
+         large need smaller units"
+    )]
+    PsiTooLarge {
+        /// ψ given (or the default from the bounds).
+        psi: f64,
+        /// The largest ψ allowed.
+        max: f64,
+    },
+    /// Storage the map needs could not be allocated.
+    #[error(
+        "the map's {what} needs {gigabytes:.1} GB, more than this machine could allocate (use \
+         a coarser grid or a smaller max_rows)"
+    )]
+    OutOfMemory {
+        /// What the storage is for.
+        what: &'static str,
+        /// Gigabytes (1e9 bytes) it needed.
+        gigabytes: f64,
     },
     /// A scalar parameter that must be finite was not.
     #[error("{what} must be finite, got {value}")]

@@ -14,14 +14,15 @@ pub struct GridSpec {
 }
 
 impl GridSpec {
-    /// Checks that the bounds are finite and non-empty and the shape positive.
+    /// Checks that the bounds are finite and non-empty and the shape positive (with a cell
+    /// count that fits in a usize).
     pub fn new(bounds: [[f64; 2]; 2], shape: (usize, usize)) -> Result<Self, GpisError> {
         for (axis, [lower, upper]) in ["x", "y"].into_iter().zip(bounds) {
             if !(lower.is_finite() && upper.is_finite() && lower < upper) {
                 return Err(GpisError::InvalidBounds { axis, lower, upper });
             }
         }
-        if shape.0 == 0 || shape.1 == 0 {
+        if shape.0 == 0 || shape.1 == 0 || shape.0.checked_mul(shape.1).is_none() {
             return Err(GpisError::InvalidShape {
                 height: shape.0,
                 width: shape.1,
@@ -63,11 +64,15 @@ impl GridSpec {
 
     /// All cell centres in row-major order.
     pub fn cell_centres(&self) -> Vec<[f64; 2]> {
+        self.cell_centres_iter().collect()
+    }
+
+    /// The cell centres in row-major order, one at a time.
+    pub fn cell_centres_iter(&self) -> impl Iterator<Item = [f64; 2]> + '_ {
         let (h, w) = self.shape;
         (0..h)
-            .flat_map(|i| (0..w).map(move |j| (i, j)))
+            .flat_map(move |i| (0..w).map(move |j| (i, j)))
             .map(|(i, j)| self.cell_centre(i, j))
-            .collect()
     }
 
     /// Whether `p` lies inside the closed bounds.

@@ -44,6 +44,15 @@ const CHUNK_ROWS: usize = 48;
 /// Smallest row capacity allocated once the first row arrives.
 const MIN_CAPACITY: usize = 64;
 
+/// The gigabytes (1e9 bytes) that `count` f64s take.
+fn gigabytes_of_f64s(count: f64) -> f64 {
+    count * std::mem::size_of::<f64>() as f64 / 1e9
+}
+
+/// Largest ψ: the kernel's values grow as ψ³, and sums of many of them must stay far from
+/// f64's overflow (ψ³ = 1e300 leaves eight orders of magnitude).
+pub const MAX_PSI: f64 = 1e100;
+
 /// How a map is built. `psi: None` means [`DEFAULT_PSI_FACTOR`] × the bounds' diagonal.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GpisConfig {
@@ -124,7 +133,8 @@ impl Clone for Gpis {
             mean: self.mean.clone(),
             variance: self.variance.clone(),
         };
-        copy.reserve_rows(self.capacity);
+        // A failed reservation is tried again, with its error, by the copy's next `add`.
+        copy.reserve_rows(self.capacity).ok();
         copy
     }
 }
@@ -138,6 +148,9 @@ impl Gpis {
         if !(psi.is_finite() && psi >= diagonal) {
             return Err(GpisError::PsiTooSmall { psi, diagonal });
         }
+        if psi > MAX_PSI {
+            return Err(GpisError::PsiTooLarge { psi, max: MAX_PSI });
+        }
         if !config.prior_mean.is_finite() {
             return Err(GpisError::NonFiniteParameter {
                 what: "prior_mean",
@@ -149,8 +162,20 @@ impl Gpis {
                 max_rows: config.max_rows,
             });
         }
-        let cells = grid.cell_centres();
-        let n_cells = cells.len();
+        // The grid's own storage (centres, mean, variance), allocated fallibly: a grid too
+        // large for this machine is an error, not an abort.
+        let n_cells = grid.n_cells();
+        let out_of_memory = |_| GpisError::OutOfMemory {
+            what: "grid",
+            gigabytes: gigabytes_of_f64s(4.0 * n_cells as f64),
+        };
+        let mut cells = Vec::new();
+        cells.try_reserve_exact(n_cells).map_err(out_of_memory)?;
+        cells.extend(grid.cell_centres_iter());
+        let mut mean = Vec::new();
+        mean.try_reserve_exact(n_cells).map_err(out_of_memory)?;
+        let mut variance = Vec::new();
+        variance.try_reserve_exact(n_cells).map_err(out_of_memory)?;
         let mut map = Self {
             grid,
             cells,
@@ -164,24 +189,42 @@ impl Gpis {
             chol: Mat::zeros(0, 0),
             beta: Vec::new(),
             grid_cache_t: Mat::zeros(n_cells, 0),
-            mean: Vec::new(),
-            variance: Vec::new(),
+            mean,
+            variance,
         };
         map.clear();
         Ok(map)
     }
 
-    /// Forgets every observation, keeping the allocated storage for reuse.
+    /// Forgets every observation, keeping storage for reuse: as many rows as the map held
+    /// (rounded up to a power of two). Storage beyond that, grown by an unusually large map,
+    /// is released, so a map reused across episodes holds what its last episode needed, not
+    /// the most any episode ever did (a soak of 10^6 steps saw memory creep otherwise).
     pub fn clear(&mut self) {
         let n_cells = self.cells.len();
+        let kept = self.rows.len().next_power_of_two().max(MIN_CAPACITY);
         self.rows.clear();
         self.observed.clear();
         self.noise_var.clear();
         self.beta.clear();
+        if self.capacity >= 2 * kept {
+            self.rows.shrink_to(kept);
+            self.observed.shrink_to(kept);
+            self.noise_var.shrink_to(kept);
+            self.beta.shrink_to(kept);
+            self.chol = Mat::zeros(0, 0);
+            self.grid_cache_t = Mat::zeros(n_cells, 0);
+            self.capacity = 0;
+            // A failed reservation is tried again, with its error, by the next `add`.
+            self.reserve_rows(kept.min(self.max_rows)).ok();
+        }
         self.chol.truncate(0, 0);
         self.grid_cache_t.truncate(n_cells, 0);
-        self.mean = vec![self.prior_mean; n_cells];
-        self.variance = vec![self.kernel.prior_variance(RowKind::Value); n_cells];
+        self.mean.clear();
+        self.mean.resize(n_cells, self.prior_mean);
+        self.variance.clear();
+        self.variance
+            .resize(n_cells, self.kernel.prior_variance(RowKind::Value));
     }
 
     /// The domain and its grid.
@@ -346,6 +389,7 @@ impl Gpis {
                 requested,
             });
         }
+        self.reserve_rows(self.rows.len() + requested)?;
         let mut report = AddReport::default();
         let mut start = 0;
         while start < observations.len() {
@@ -363,18 +407,28 @@ impl Gpis {
         Ok(report)
     }
 
-    /// Grows the factor's and the cache's storage (by doubling) to hold `rows` rows.
-    fn reserve_rows(&mut self, rows: usize) {
+    /// Grows the factor's and the cache's storage (by doubling) to hold `rows` rows, or
+    /// says how much it needed if the allocation fails (the map is left as it was).
+    fn reserve_rows(&mut self, rows: usize) -> Result<(), GpisError> {
         if rows <= self.capacity {
-            return;
+            return Ok(());
         }
         let capacity = rows
             .max(2 * self.capacity)
             .max(MIN_CAPACITY)
             .min(self.max_rows);
-        self.chol.reserve(capacity, capacity);
-        self.grid_cache_t.reserve(self.cells.len(), capacity);
+        let out_of_memory = |_| GpisError::OutOfMemory {
+            what: "factor and grid cache",
+            gigabytes: gigabytes_of_f64s(capacity as f64 * (capacity + self.cells.len()) as f64),
+        };
+        self.chol
+            .try_reserve(capacity, capacity)
+            .map_err(out_of_memory)?;
+        self.grid_cache_t
+            .try_reserve(self.cells.len(), capacity)
+            .map_err(out_of_memory)?;
         self.capacity = capacity;
+        Ok(())
     }
 
     /// The blocked incremental update of the module docs, for one chunk of observations.
@@ -455,7 +509,8 @@ impl Gpis {
         // V₂ᵀ = (K*₂ − Vᵀ L₂₁ᵀ) L₂₂⁻ᵀ, computed as G × kept in place, in the cache's new
         // columns.
         let n_cells = self.cells.len();
-        self.reserve_rows(n + kept);
+        // `add` reserved storage for every row it could add: no allocation here.
+        debug_assert!(n + kept <= self.capacity);
         self.grid_cache_t.resize_with(n_cells, n + kept, |_, _| 0.0);
         let (old_cache, mut cache_new) = self.grid_cache_t.as_mut().split_at_col_mut(n);
         for (c, &a) in accepted.iter().enumerate() {

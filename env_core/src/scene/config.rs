@@ -42,14 +42,14 @@ settings! {
     /// The shelf compartment: interior size and wall material.
     pub struct CupboardConfig {
         /// Interior width along x (centred on x = 0), m.
-        width: f64 = 0.60 => "cupboard_width" in Range::POSITIVE,
+        width: f64 = 0.60 => "cupboard_width" in Range::LENGTH,
         /// Interior depth along y (open front at y = 0), m.
-        depth: f64 = 0.30 => "cupboard_depth" in Range::POSITIVE,
+        depth: f64 = 0.30 => "cupboard_depth" in Range::LENGTH,
         /// Interior height along z (floor top at z = 0), m.
-        height: f64 = 0.30 => "cupboard_height" in Range::POSITIVE,
+        height: f64 = 0.30 => "cupboard_height" in Range::LENGTH,
         /// Thickness of floor, back, side walls and top, m (thick walls keep a fast hand
         /// from tunnelling).
-        wall_thickness: f64 = 0.05 => "wall_thickness" in Range::POSITIVE,
+        wall_thickness: f64 = 0.05 => "wall_thickness" in Range::LENGTH,
         /// Friction coefficient of the walls.
         friction: f64 = 0.5 => "wall_friction" in Range::NON_NEGATIVE,
     }
@@ -67,28 +67,28 @@ settings! {
         /// Shape of the target; 'any' draws it like the other jars.
         target_shape: TargetShape = TargetShape::Any => "target_shape" in Range::FINITE,
         /// Diameter range of round jars, m.
-        round_diameter: [f64; 2] = [0.045, 0.055] => "round_diameter" in Range::POSITIVE,
+        round_diameter: [f64; 2] = [0.045, 0.055] => "round_diameter" in Range::LENGTH,
         /// Side range of square jars, m.
-        square_side: [f64; 2] = [0.045, 0.050] => "square_side" in Range::POSITIVE,
+        square_side: [f64; 2] = [0.045, 0.050] => "square_side" in Range::LENGTH,
         /// Height range of every jar, m.
-        jar_height: [f64; 2] = [0.10, 0.12] => "jar_height" in Range::POSITIVE,
+        jar_height: [f64; 2] = [0.10, 0.12] => "jar_height" in Range::LENGTH,
         /// Mass range of every jar, kg.
-        jar_mass: [f64; 2] = [0.10, 0.20] => "jar_mass" in Range::POSITIVE,
+        jar_mass: [f64; 2] = [0.10, 0.20] => "jar_mass" in Range::PHYSICAL,
         /// Friction coefficient of the jars.
         jar_friction: f64 = 0.5 => "jar_friction" in Range::NON_NEGATIVE,
         /// Upper bound on the target's visible fraction: visible silhouette pixels over
         /// silhouette pixels, both by ray casting through the depth camera's pixel grid.
         max_visible_fraction: f64 = 0.10 => "max_visible_fraction" in Range::UNIT,
         /// The target's centre is at least this deep (y), m.
-        target_min_depth: f64 = 0.17 => "target_min_depth" in Range::NON_NEGATIVE,
+        target_min_depth: f64 = 0.17 => "target_min_depth" in Range::NON_NEGATIVE_LENGTH,
         /// Minimum gap between the bounding circles of two jars, m.
-        min_gap: f64 = 0.008 => "min_gap" in Range::NON_NEGATIVE,
+        min_gap: f64 = 0.008 => "min_gap" in Range::NON_NEGATIVE_LENGTH,
         /// Minimum gap between a jar's bounding circle and a side or back wall, m.
-        wall_gap: f64 = 0.008 => "wall_gap" in Range::NON_NEGATIVE,
+        wall_gap: f64 = 0.008 => "wall_gap" in Range::NON_NEGATIVE_LENGTH,
         /// Width of the jar-free corridor from the opening to the target's side, m.
-        corridor_width: f64 = 0.07 => "corridor_width" in Range::POSITIVE,
+        corridor_width: f64 = 0.07 => "corridor_width" in Range::LENGTH,
         /// Gap between the target's side and the corridor's inner edge, m.
-        corridor_clearance: f64 = 0.005 => "corridor_clearance" in Range::NON_NEGATIVE,
+        corridor_clearance: f64 = 0.005 => "corridor_clearance" in Range::NON_NEGATIVE_LENGTH,
         /// Attempts before the layout generator gives up.
         max_attempts: usize = 2000 => "max_attempts" in Range::AT_LEAST_ONE,
     }
@@ -114,15 +114,15 @@ settings! {
         /// Principal point y, px; None puts it at the image centre.
         cy: Option<f64> = None => "camera_cy" in Range::FINITE,
         /// Optical centre in the world, m.
-        position: [f64; 3] = [0.0, -0.25, 0.075] => "camera_position" in Range::FINITE,
+        position: [f64; 3] = [0.0, -0.25, 0.075] => "camera_position" in Range::COORDINATE,
         /// A point on the optical axis, m; the image's up is the world's +z.
-        look_at: [f64; 3] = [0.0, 0.30, 0.075] => "camera_look_at" in Range::FINITE,
+        look_at: [f64; 3] = [0.0, 0.30, 0.075] => "camera_look_at" in Range::COORDINATE,
         /// Rays longer than this return no depth, m.
-        max_range: f64 = 2.0 => "camera_max_range" in Range::POSITIVE,
+        max_range: f64 = 2.0 => "camera_max_range" in Range::LENGTH,
         /// Full thickness (z) of the band around the slice height kept for the 2D slice, m.
-        slice_band: f64 = 0.01 => "slice_band" in Range::POSITIVE,
+        slice_band: f64 = 0.01 => "slice_band" in Range::LENGTH,
         /// Standard deviation of the Gaussian noise added to each slice coordinate, m.
-        noise_std: f64 = 0.002 => "depth_noise_std" in Range::NON_NEGATIVE,
+        noise_std: f64 = 0.002 => "depth_noise_std" in Range::NON_NEGATIVE_LENGTH,
         /// The slice is thinned (evenly, deterministically) to at most this many points.
         max_slice_points: usize = 256 => "max_slice_points" in Range::AT_LEAST_ONE,
     }
@@ -150,46 +150,46 @@ settings! {
     pub struct HandConfig {
         /// Start pose of the wrist (x, y, yaw); yaw = 0 points the finger along +y (into the
         /// cupboard). The default puts the fingertip just outside the opening.
-        start: [f64; 3] = [0.0, -0.125, 0.0] => "hand_start" in Range::FINITE,
+        start: [f64; 3] = [0.0, -0.125, 0.0] => "hand_start" in Range::COORDINATE,
         /// Largest |dx| and |dy| of one command, m; larger commands are clipped.
-        max_step_translation: f64 = 0.01 => "max_step_translation" in Range::POSITIVE,
+        max_step_translation: f64 = 0.01 => "max_step_translation" in Range::LENGTH,
         /// Largest |dyaw| of one command, rad; larger commands are clipped.
-        max_step_yaw: f64 = 0.1 => "max_step_yaw" in Range::POSITIVE,
+        max_step_yaw: f64 = 0.1 => "max_step_yaw" in Range::left_open(0.0, PI),
         /// Wrist workspace (x_min, x_max, y_min, y_max), m; motion leaving it is stopped.
-        workspace: [[f64; 2]; 2] = [[-0.45, 0.45], [-0.30, 0.30]] => "workspace" in Range::FINITE,
+        workspace: [[f64; 2]; 2] = [[-0.45, 0.45], [-0.30, 0.30]] => "workspace" in Range::COORDINATE,
         /// Half side of the cubic wrist, m.
-        wrist_half_extent: f64 = 0.015 => "wrist_half_extent" in Range::POSITIVE,
+        wrist_half_extent: f64 = 0.015 => "wrist_half_extent" in Range::LENGTH,
         /// Length of the arm link behind the wrist, m.
-        arm_length: f64 = 0.40 => "arm_length" in Range::POSITIVE,
+        arm_length: f64 = 0.40 => "arm_length" in Range::LENGTH,
         /// Half width (and half height) of the arm link, m.
-        arm_half_width: f64 = 0.012 => "arm_half_width" in Range::POSITIVE,
+        arm_half_width: f64 = 0.012 => "arm_half_width" in Range::LENGTH,
         /// Finger length from the joint to the tip, m.
-        finger_length: f64 = 0.10 => "finger_length" in Range::POSITIVE,
+        finger_length: f64 = 0.10 => "finger_length" in Range::LENGTH,
         /// Half thickness of the finger in the slice plane, m.
-        finger_half_thickness: f64 = 0.003 => "finger_half_thickness" in Range::POSITIVE,
+        finger_half_thickness: f64 = 0.003 => "finger_half_thickness" in Range::LENGTH,
         /// Half height (z) of the finger, m.
-        finger_half_height: f64 = 0.01 => "finger_half_height" in Range::POSITIVE,
+        finger_half_height: f64 = 0.01 => "finger_half_height" in Range::LENGTH,
         /// Finger mass, kg: the rendered inertia, light because the deflection sensed while
         /// the wrist starts or stops is inertial (about 0.1 rad after a jump to the largest
         /// command at the defaults, gone within about 0.1 s); it scales with the square root
         /// of mass over stiffness.
-        finger_mass: f64 = 0.005 => "finger_mass" in Range::POSITIVE,
+        finger_mass: f64 = 0.005 => "finger_mass" in Range::PHYSICAL,
         /// Friction coefficient of the finger.
         finger_friction: f64 = 0.3 => "finger_friction" in Range::NON_NEGATIVE,
         /// Joint stiffness rendered by the finger motor, N m/rad. The contact force is
         /// stiffness times deflection over the lever (joint to contact); the default keeps it
         /// below what slides or tips a 0.1 kg jar for contacts beyond about a quarter of the
         /// finger.
-        finger_stiffness: f64 = 0.02 => "finger_stiffness" in Range::POSITIVE,
+        finger_stiffness: f64 = 0.02 => "finger_stiffness" in Range::PHYSICAL,
         /// Joint damping rendered by the finger motor, N m s/rad (the default is about 0.8 of
         /// critical for the default mass and stiffness).
-        finger_damping: f64 = 0.0009 => "finger_damping" in Range::NON_NEGATIVE,
+        finger_damping: f64 = 0.0009 => "finger_damping" in Range::closed(0.0, 1e6),
         /// Joint limit: the finger deflects within (-limit, limit), rad.
         finger_limit: f64 = 1.2 => "finger_limit" in Range::open(0.0, PI),
         /// A rigid finger (welded to the wrist, no joint): the intrusive baseline.
         rigid_finger: bool = false => "rigid_finger" in Range::FINITE,
         /// Wrist and arm stop this far from a wall, m.
-        wall_margin: f64 = 0.001 => "wall_margin" in Range::NON_NEGATIVE,
+        wall_margin: f64 = 0.001 => "wall_margin" in Range::NON_NEGATIVE_LENGTH,
     }
     sections {}
     check_across = |_| Ok(());
@@ -199,11 +199,11 @@ settings! {
     /// Turning finger contacts into tactile readings.
     pub struct TouchConfig {
         /// Manifold points farther apart than this (predicted contacts) are dropped, m.
-        max_distance: f64 = 5e-4 => "touch_max_distance" in Range::NON_NEGATIVE,
+        max_distance: f64 = 5e-4 => "touch_max_distance" in Range::NON_NEGATIVE_LENGTH,
         /// Readings on one jar closer than this in the slice plane are merged, m.
-        merge_distance: f64 = 1e-3 => "touch_merge_distance" in Range::NON_NEGATIVE,
+        merge_distance: f64 = 1e-3 => "touch_merge_distance" in Range::NON_NEGATIVE_LENGTH,
         /// Standard deviation of the Gaussian noise on each contact coordinate, m.
-        point_noise_std: f64 = 5e-4 => "touch_point_noise_std" in Range::NON_NEGATIVE,
+        point_noise_std: f64 = 5e-4 => "touch_point_noise_std" in Range::NON_NEGATIVE_LENGTH,
         /// Standard deviation of the Gaussian rotation of each contact normal, rad.
         normal_noise_std: f64 = 0.02 => "touch_normal_noise_std" in Range::NON_NEGATIVE,
     }
@@ -239,7 +239,7 @@ settings! {
     /// The whole scene configuration.
     pub struct SceneConfig {
         /// Height (z) of the map plane: the camera slice and the hand live there, m.
-        slice_height: f64 = 0.055 => "slice_height" in Range::POSITIVE,
+        slice_height: f64 = 0.055 => "slice_height" in Range::LENGTH,
     }
     sections {
         /// The cupboard.

@@ -18,7 +18,7 @@ mod setting_type;
 mod value;
 
 pub use error::SettingError;
-pub use range::{Limit, Range};
+pub use range::{Limit, Range, MAX_SCENE_LENGTH};
 pub use setting_type::{Choice, SettingType};
 pub use value::SettingValue;
 

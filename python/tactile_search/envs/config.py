@@ -25,8 +25,22 @@ MAP_MODES: tuple[str, ...] = next(s["choices"] for s in SETTINGS if s["key"] == 
 SCENE_KEYS: frozenset[str] = frozenset(s["key"] for s in _core.Scene.settings())
 
 
+def _plain(value: Any) -> bool:
+    """A built-in scalar, or a tuple of them: hashable and equal to what it means."""
+    if isinstance(value, tuple):
+        return all(_plain(item) for item in value)
+    return value is None or type(value) in (bool, int, float, str)
+
+
 def _check(config: Any) -> None:
-    _core.EpisodeBatch.resolve_settings(**config.settings_dict())
+    """Checks every value in the core; a value given as another kind of sequence or as a
+    numpy scalar (a list from YAML, an array, ``np.float32``) is replaced by the core's
+    reading of it, so that the frozen config stays hashable and equal to one built from
+    tuples and Python numbers."""
+    resolved = _core.EpisodeBatch.resolve_settings(**config.settings_dict())
+    for key, value in config.settings_dict().items():
+        if not _plain(value):
+            object.__setattr__(config, key, resolved[key])
 
 
 def settings_dict(self: Any) -> dict[str, Any]:

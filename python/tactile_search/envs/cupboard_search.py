@@ -109,6 +109,17 @@ class CupboardSearchEnv(gym.Env, EzPickle):
 
     {settings_table}
 
+    ## Pickling
+    A pickled env carries its settings, its random generator and its episode so far (the
+    layout seed and the actions since the reset, 24 bytes a step); unpickling rebuilds the
+    env and replays the episode, which the core makes bit-identical, so the copy goes on
+    exactly as the original would (replaying costs a step's time per step taken).
+
+    ## Threads
+    One env serves one thread at a time: a call while another thread's call on the same
+    env is running raises ``RuntimeError`` (the steps would interleave in the scheduler's
+    order). Give each thread its own env, or step a vector env from one thread.
+
     ## Version History
     - v0: first release.
     """
@@ -124,6 +135,10 @@ class CupboardSearchEnv(gym.Env, EzPickle):
         self._batch = self.config.make_batch([0], threads=1)
         self.observation_space = observation_space(self.config, self._batch.proprio_len)
         self.action_space = ACTION_SPACE
+        # The episode so far, for pickling: its layout seed and the actions since its reset.
+        self._episode_seed: int | None = None
+        self._actions = np.empty((0, 3))
+        self._steps_taken = 0
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
@@ -133,12 +148,47 @@ class CupboardSearchEnv(gym.Env, EzPickle):
         # vector env reset with seed[i] = s); otherwise draw one from the env's generator.
         episode_seed = seed if seed is not None else int(self.np_random.integers(0, 2**63))
         self._batch.reset(0, episode_seed)
+        self._episode_seed = episode_seed
+        self._steps_taken = 0
         return self._batch.observation(0), self._batch.info(0)
 
     def step(self, action: Any) -> tuple[dict, float, bool, bool, dict]:
         # One call: the core checks the action once (shape (3,), finite; ValueError naming
         # what came) and returns fresh observation arrays and an info dict of scalars.
-        return self._batch.step_single(action)
+        result = self._batch.step_single(action)
+        self._record(action)
+        return result
+
+    def _record(self, action: Any) -> None:
+        """Keeps a stepped action for pickling (as float64: the core steps in float64, so
+        a float32 action replays exactly)."""
+        if self._steps_taken == len(self._actions):
+            grown = np.empty((max(2 * len(self._actions), 64), 3))
+            grown[: self._steps_taken] = self._actions[: self._steps_taken]
+            self._actions = grown
+        self._actions[self._steps_taken] = np.asarray(action, dtype=np.float64)
+        self._steps_taken += 1
+
+    def __getstate__(self) -> dict[str, Any]:
+        state = EzPickle.__getstate__(self)
+        state["np_random"] = self._np_random
+        state["episode_seed"] = self._episode_seed
+        state["actions"] = self._actions[: self._steps_taken].copy()
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        state = dict(state)
+        np_random = state.pop("np_random", None)
+        episode_seed = state.pop("episode_seed", None)
+        actions = state.pop("actions", np.empty((0, 3)))
+        EzPickle.__setstate__(self, state)
+        self._np_random = np_random
+        if episode_seed is not None:
+            self._batch.reset(0, episode_seed)
+            self._episode_seed = episode_seed
+            for action in actions:
+                self._batch.step_single(action)
+                self._record(action)
 
     def oracle_action(self) -> np.ndarray:
         """The action of a scripted searcher that knows the target (the upper bound)."""
@@ -149,9 +199,9 @@ class CupboardSearchEnv(gym.Env, EzPickle):
         return self._batch.render_state(0)
 
     def render(self) -> np.ndarray | None:
-        """The scene from above beside the map, as an RGB array, in the ``rgb_array`` mode.
-        Without a render mode it warns and returns None (gymnasium's convention). Drawing
-        needs matplotlib: without it this raises an ``ImportError`` naming the extra."""
+        """The scene from above beside the map, as an RGB array, in the ``rgb_array`` mode
+        (drawn with numpy alone). Without a render mode it warns and returns None
+        (gymnasium's convention)."""
         if self.render_mode is None:
             gym.logger.warn(
                 "You are calling render() without a render mode: make the env with "

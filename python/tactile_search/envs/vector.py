@@ -89,11 +89,20 @@ class CupboardSearchVectorEnv(VectorEnv):
         # Episodes that ended last step start over in the same parallel call (their action
         # is ignored): they return their first observation, reward 0, flags False. (Most
         # steps reset nothing: skip the numpy calls then, a draw of no seeds changes no state.)
+        # A step the core refuses (bad actions) changes nothing: the generator's state is put
+        # back, so the seeds drawn for these resets are drawn again by the next step.
         resets = None
+        generator_state = None
         if self._needs_reset.any():
+            generator_state = self.np_random.bit_generator.state
             resetting = np.flatnonzero(self._needs_reset).tolist()
             resets = list(zip(resetting, self._seeds(len(resetting)), strict=True))
-        maps, proprio, rewards, terminated, truncated, info = self._batch.step(actions, resets)
+        try:
+            maps, proprio, rewards, terminated, truncated, info = self._batch.step(actions, resets)
+        except Exception:
+            if generator_state is not None:
+                self.np_random.bit_generator.state = generator_state
+            raise
         self._needs_reset = terminated | truncated
         observation = observation_dict(maps, proprio)
         if self.copy:

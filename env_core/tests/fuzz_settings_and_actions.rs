@@ -1,0 +1,242 @@
+//! Property tests of the episode's public entry points (proptest): settings and actions.
+//!
+//! - Any key (known or not) with any value (any type, nested lists, NaN, infinities) is
+//!   accepted or refused with a `SettingError` naming the key; never a panic.
+//! - Every numeric setting at the extremes of its valid range (its ends, one ulp inside an
+//!   open end, ±1e300 where unbounded), one at a time, either builds an episode that steps
+//!   with finite observations and infos, or is refused with an error; never a panic.
+//! - Any action sequence (in range, huge, NaN, infinite) steps or is refused with
+//!   `NonFiniteAction`, and a refused action leaves the episode as it was.
+//!
+//! `PROPTEST_CASES` sets the number of cases (the long run).
+
+use env_core::episode::step_info::InfoValue;
+use env_core::episode::{
+    Episode, EpisodeConfig, EpisodeError, MapMode, PROPRIO_LEN, STEP_INFO_FIELDS,
+};
+use env_core::settings::{Limit, SettingError, SettingValue, Settings, MAX_SCENE_LENGTH};
+use proptest::prelude::*;
+
+/// Cases per property: `PROPTEST_CASES` if set (the long run), else `default`.
+fn cases(default: u32) -> u32 {
+    std::env::var("PROPTEST_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
+fn number() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        3 => -10.0..10.0f64,
+        1 => Just(0.0),
+        1 => Just(f64::NAN),
+        1 => Just(f64::INFINITY),
+        1 => Just(-1e300),
+        1 => Just(1e-300),
+    ]
+}
+
+fn setting_value() -> impl Strategy<Value = SettingValue> {
+    let leaf = prop_oneof![
+        any::<bool>().prop_map(SettingValue::Bool),
+        prop_oneof![any::<i64>(), -5i64..5000].prop_map(SettingValue::Int),
+        number().prop_map(SettingValue::Float),
+        prop::collection::vec(any::<char>(), 0..8)
+            .prop_map(|c| SettingValue::Text(c.into_iter().collect())),
+        prop::sample::select(vec!["gpis", "occupancy", "none", "round", "any"])
+            .prop_map(|s| SettingValue::Text(s.to_owned())),
+        Just(SettingValue::Null),
+    ];
+    leaf.prop_recursive(2, 8, 5, |inner| {
+        prop::collection::vec(inner, 0..5).prop_map(SettingValue::List)
+    })
+}
+
+fn key() -> impl Strategy<Value = String> {
+    let keys: Vec<String> = EpisodeConfig::keys()
+        .into_iter()
+        .map(str::to_owned)
+        .collect();
+    prop_oneof![
+        8 => prop::sample::select(keys),
+        1 => prop::collection::vec(any::<char>(), 0..10).prop_map(|c| c.into_iter().collect()),
+    ]
+}
+
+/// The value of `value` with every number replaced by `number` (ints kept whole if it is).
+fn with_number(value: &SettingValue, number: f64) -> SettingValue {
+    match value {
+        SettingValue::Int(_) if number.fract() == 0.0 && number.abs() < 9e18 => {
+            SettingValue::Int(number as i64)
+        }
+        SettingValue::Int(_) => SettingValue::Int(if number > 0.0 { i64::MAX } else { i64::MIN }),
+        SettingValue::Float(_) | SettingValue::Null => SettingValue::Float(number),
+        SettingValue::List(items) => {
+            SettingValue::List(items.iter().map(|v| with_number(v, number)).collect())
+        }
+        other => other.clone(),
+    }
+}
+
+/// The extremes of a range that are still inside it.
+fn extremes(low: Limit, high: Limit) -> Vec<f64> {
+    let mut out = Vec::new();
+    match low {
+        Limit::Unbounded => out.push(-1e300),
+        Limit::Closed(v) => out.push(v),
+        Limit::Open(v) => out.push(v.next_up()),
+    }
+    match high {
+        Limit::Unbounded => out.push(1e300),
+        Limit::Closed(v) => out.push(v),
+        Limit::Open(v) => out.push(v.next_down()),
+    }
+    out
+}
+
+fn assert_outputs_finite(episode: &Episode) -> Result<(), TestCaseError> {
+    let mut proprio = vec![0f32; PROPRIO_LEN];
+    episode.write_proprio(&mut proprio).expect("right length");
+    prop_assert!(
+        proprio.iter().all(|v| v.is_finite() && v.abs() <= 1.0),
+        "{proprio:?}"
+    );
+    let mut map = vec![0u8; episode.map_len()];
+    episode.write_map(&mut map).expect("right length");
+    let info = episode.last_info();
+    for field in STEP_INFO_FIELDS {
+        if let InfoValue::Float(get) = field.value {
+            prop_assert!(get(info).is_finite(), "info {} = {}", field.name, get(info));
+        }
+    }
+    Ok(())
+}
+
+fn action() -> impl Strategy<Value = [f64; 3]> {
+    let component = prop_oneof![
+        6 => -1.0..1.0f64,
+        1 => -1e6..1e6f64,
+        1 => Just(f64::NAN),
+        1 => Just(f64::NEG_INFINITY),
+        1 => Just(f64::MAX),
+    ];
+    [component.clone(), component.clone(), component]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(cases(256)))]
+
+    #[test]
+    fn any_key_and_value_is_accepted_or_refused_naming_the_key(
+        pairs in prop::collection::vec((key(), setting_value()), 1..4),
+    ) {
+        let given: Vec<(&str, SettingValue)> =
+            pairs.iter().map(|(k, v)| (k.as_str(), v.clone())).collect();
+        match EpisodeConfig::from_pairs(given) {
+            Ok(config) => prop_assert!(config.check_settings().is_ok()),
+            Err(error) => {
+                let key: String = match &error {
+                    SettingError::WrongType { key, .. } | SettingError::OutOfRange { key, .. } => {
+                        (*key).to_owned()
+                    }
+                    SettingError::UnknownKey { key, .. } => key.clone(),
+                };
+                prop_assert!(!key.is_empty() || pairs.iter().any(|(k, _)| k.is_empty()));
+                // The key as typed, or escaped when it holds control characters.
+                let message = error.to_string();
+                prop_assert!(
+                    message.contains(&key) || message.contains(&format!("{key:?}")),
+                    "{message}"
+                );
+            }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(cases(48)))]
+
+    #[test]
+    fn every_setting_at_an_extreme_of_its_range_builds_and_steps_or_is_refused(
+        index in any::<prop::sample::Index>(),
+        upper in any::<bool>(),
+        mode in prop::sample::select(vec![MapMode::Gpis, MapMode::Occupancy, MapMode::None]),
+        seed in 0u64..1000,
+        actions in prop::collection::vec(action(), 1..4),
+    ) {
+        let table = EpisodeConfig::table();
+        let setting = &table[index.index(table.len())];
+        let mut config = EpisodeConfig::default();
+        config.map.mode = mode;
+        let default = setting.get(&config);
+        let [low, high] = extremes(setting.range.low, setting.range.high)[..] else {
+            unreachable!()
+        };
+        let value = with_number(&default, if upper { high } else { low });
+        if config.set_value(setting.key, &value).is_err() || config.check_settings().is_err() {
+            return Ok(()); // refused with an error: the first property checks its message
+        }
+        let Ok(mut episode) = Episode::new(config, seed) else {
+            return Ok(()); // e.g. no layout fits: an error, not a panic
+        };
+        assert_outputs_finite(&episode)?;
+        for action in actions {
+            match episode.step(action) {
+                Ok(_) => assert_outputs_finite(&episode)?,
+                Err(EpisodeError::NonFiniteAction { .. }) => {
+                    prop_assert!(action.iter().any(|a| !a.is_finite()));
+                }
+                Err(other) => prop_assert!(!other.to_string().is_empty()),
+            }
+            if episode.last_info().terminated {
+                break;
+            }
+        }
+    }
+
+    #[test]
+    fn any_action_sequence_steps_or_is_refused_leaving_the_episode_as_it_was(
+        mode in prop::sample::select(vec![MapMode::Gpis, MapMode::Occupancy, MapMode::None]),
+        seed in any::<u64>(),
+        actions in prop::collection::vec(action(), 1..30),
+    ) {
+        let mut config = EpisodeConfig::default();
+        config.map.mode = mode;
+        let mut episode = Episode::new(config, seed).expect("default settings build");
+        for action in actions {
+            let before = *episode.last_info();
+            match episode.step(action) {
+                Ok(info) => {
+                    prop_assert!(action.iter().all(|a| a.is_finite()));
+                    prop_assert_eq!(info.steps, before.steps + 1);
+                    assert_outputs_finite(&episode)?;
+                }
+                Err(EpisodeError::NonFiniteAction { .. }) => {
+                    prop_assert!(action.iter().any(|a| !a.is_finite()));
+                    prop_assert_eq!(*episode.last_info(), before);
+                }
+                Err(other) => {
+                    prop_assert!(before.terminated, "{other}");
+                    break;
+                }
+            }
+        }
+    }
+}
+
+/// Found by the extremes property: under depth noise of 1e300 (then in range) the occupancy
+/// map's first look walked each ray cell by cell out to its reading, 1e300 m away (it never
+/// returned). The largest noise now allowed puts readings 100 m away.
+#[test]
+fn huge_depth_noise_builds_and_steps_in_every_map_mode() {
+    for mode in [MapMode::Gpis, MapMode::Occupancy, MapMode::None] {
+        let mut config = EpisodeConfig::default();
+        config.map.mode = mode;
+        config
+            .set_value("depth_noise_std", &SettingValue::Float(MAX_SCENE_LENGTH))
+            .expect("in range");
+        let mut episode = Episode::new(config, 0).expect("builds");
+        episode.step([0.5, 0.5, 0.0]).expect("steps");
+        assert_outputs_finite(&episode).expect("finite");
+    }
+}

@@ -1,0 +1,108 @@
+"""Threads: an env, a scene or a map serves one thread at a time. A call that meets another
+thread's call still running raises a RuntimeError saying so (not pyo3's bare "Already
+borrowed"), leaves the object usable, and objects of their own run side by side in threads
+with the same results as one after another."""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+
+import numpy as np
+import pytest
+
+from tactile_search import CupboardSearchEnv, Gpis
+from tactile_search._core import Scene
+
+IN_USE = "in use by another thread"
+
+
+def collide(call: Callable[[], object], attempts: int = 400) -> list[str]:
+    """Runs ``call`` in a background thread ``attempts`` times while this thread calls it
+    too, until a call fails; returns the messages of the RuntimeErrors raised on both sides.
+
+    The background calls release the GIL while they compute and hold the object meanwhile,
+    so this thread's call, which gets the GIL exactly then, finds it in use."""
+    messages: list[str] = []
+    stop = threading.Event()
+
+    def background() -> None:
+        for _ in range(attempts):
+            if stop.is_set():
+                return
+            try:
+                call()
+            except RuntimeError as error:
+                messages.append(str(error))
+
+    thread = threading.Thread(target=background)
+    thread.start()
+    try:
+        for _ in range(attempts):
+            try:
+                call()
+            except RuntimeError as error:
+                messages.append(str(error))
+                break
+    finally:
+        stop.set()
+        thread.join()
+    return messages
+
+
+def test_two_threads_stepping_one_env_get_a_clear_error_and_the_env_survives() -> None:
+    env = CupboardSearchEnv(max_steps=10_000)
+    env.reset(seed=1)
+    messages = collide(lambda: env.step(np.zeros(3)))
+    assert messages, "no call ever met another thread's call"
+    assert all(IN_USE in m and "give each thread its own" in m for m in messages), messages
+    obs, *_ = env.step(np.zeros(3))  # still usable
+    assert np.isfinite(obs["proprio"]).all()
+
+
+def test_two_threads_adding_to_one_map_get_a_clear_error() -> None:
+    gpis = Gpis(((-1.0, 1.0), (-1.0, 1.0)), (60, 60), max_rows=10**6)
+    points = np.random.default_rng(0).uniform(-0.9, 0.9, (3, 2))
+
+    def add_and_clear() -> None:
+        gpis.add_values(points, noise_std=0.01)
+        if gpis.n_rows > 300:
+            gpis.clear()
+
+    messages = collide(add_and_clear)
+    assert messages and all(IN_USE in m and "Gpis" in m for m in messages), messages
+    assert np.isfinite(gpis.mean).all()
+
+
+def test_two_threads_stepping_one_scene_get_a_clear_error() -> None:
+    scene = Scene(3)
+    messages = collide(lambda: scene.step(0.0, 0.0, 0.0))
+    assert messages and all(IN_USE in m and "Scene" in m for m in messages), messages
+    assert scene.steps > 0
+
+
+@pytest.mark.parametrize("mode", ["gpis", "none"])
+def test_envs_of_their_own_run_side_by_side_in_threads_as_one_after_another(mode: str) -> None:
+    actions = np.random.default_rng(2).uniform(-1, 1, (30, 3))
+
+    def run(seed: int, out: dict[int, list]) -> None:
+        env = CupboardSearchEnv(map=mode, max_steps=30)
+        obs, _ = env.reset(seed=seed)
+        trace = [obs["proprio"]]
+        for action in actions:
+            obs, reward, *_ = env.step(action)
+            trace += [obs["proprio"], obs.get("map", np.zeros(1)), np.array([reward])]
+        out[seed] = trace
+
+    threaded: dict[int, list] = {}
+    threads = [threading.Thread(target=run, args=(seed, threaded)) for seed in (5, 6)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    sequential: dict[int, list] = {}
+    for seed in (5, 6):
+        run(seed, sequential)
+    for seed in (5, 6):
+        for a, b in zip(threaded[seed], sequential[seed], strict=True):
+            np.testing.assert_array_equal(a, b)
