@@ -156,18 +156,19 @@ class CupboardSearchEnv(gym.Env, EzPickle):
         # One call: the core checks the action once (shape (3,), finite; ValueError naming
         # what came) and returns fresh observation arrays and an info dict of scalars.
         result = self._batch.step_single(action)
-        self._record(action)
+        # Kept for pickling, as float64 (the core steps in float64: a float32 action
+        # replays exactly); ~1 us.
+        if self._steps_taken == len(self._actions):
+            self._grow_actions()
+        self._actions[self._steps_taken] = action
+        self._steps_taken += 1
         return result
 
-    def _record(self, action: Any) -> None:
-        """Keeps a stepped action for pickling (as float64: the core steps in float64, so
-        a float32 action replays exactly)."""
-        if self._steps_taken == len(self._actions):
-            grown = np.empty((max(2 * len(self._actions), 64), 3))
-            grown[: self._steps_taken] = self._actions[: self._steps_taken]
-            self._actions = grown
-        self._actions[self._steps_taken] = np.asarray(action, dtype=np.float64)
-        self._steps_taken += 1
+    def _grow_actions(self) -> None:
+        """Doubles the storage of the episode's actions."""
+        grown = np.empty((max(2 * len(self._actions), 64), 3))
+        grown[: self._steps_taken] = self._actions[: self._steps_taken]
+        self._actions = grown
 
     def __getstate__(self) -> dict[str, Any]:
         state = EzPickle.__getstate__(self)
@@ -187,8 +188,7 @@ class CupboardSearchEnv(gym.Env, EzPickle):
             self._batch.reset(0, episode_seed)
             self._episode_seed = episode_seed
             for action in actions:
-                self._batch.step_single(action)
-                self._record(action)
+                self.step(action)
 
     def oracle_action(self) -> np.ndarray:
         """The action of a scripted searcher that knows the target (the upper bound)."""
