@@ -413,7 +413,10 @@ impl Gpis {
         if rows <= self.capacity {
             return Ok(());
         }
+        // Powers of two from MIN_CAPACITY, so that a map's storage takes few sizes (and
+        // `clear` keeps the power of two its last use needed).
         let capacity = rows
+            .next_power_of_two()
             .max(2 * self.capacity)
             .max(MIN_CAPACITY)
             .min(self.max_rows);
