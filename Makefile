@@ -9,7 +9,7 @@ export VIRTUAL_ENV := $(abspath $(VENV))
 export PATH := $(abspath $(VENV))/bin:$(PATH)
 
 .DEFAULT_GOAL := help
-.PHONY: help demo results test build build-dev bench lint format clean paper stubs
+.PHONY: help demo results test build build-dev bench fuzz lint format clean paper stubs
 
 help: ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  %-10s %s\n", $$1, $$2}'
@@ -49,6 +49,11 @@ bench: build-dev $(VENV)/.extra-bench ## criterion benchmarks and the Python ben
 	cargo run --release --quiet -p env_core --example physics_tradeoffs
 	$(PY) -m benchmarks.prior_rows
 	$(PY) benchmarks/peer_envs.py --json results/peer_envs.json
+	$(PY) benchmarks/soak.py --out results/soak.png --json results/soak.json
+
+fuzz: build-dev ## the long fuzz run: the Rust and Python property tests with many cases (prints counts)
+	PROPTEST_CASES=25000 cargo test --release -p env_core --test fuzz_gpis --test fuzz_settings_and_actions
+	HYPOTHESIS_PROFILE=long $(PY) -m pytest -q tests/test_fuzz_*.py --hypothesis-show-statistics
 
 stubs: $(VENV)/.extra-dev build ## regenerate the settings part of python/tactile_search/_core.pyi from the core
 	$(PY) scripts/generate_stub.py

@@ -5,14 +5,17 @@
 
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+use pyo3::types::{
+    PyBool, PyByteArray, PyBytes, PyDict, PyFloat, PyFrozenSet, PyInt, PyList, PySet, PyString,
+    PyTuple,
+};
 
 use super::convert::type_name;
 use super::errors::wrong_type;
 use crate::settings::{SettingValue, Settings};
 
 /// The Python value as a [`SettingValue`]; `TypeError` for anything a setting never takes
-/// (a dict, an object).
+/// (a dict, a set, bytes, an object).
 pub(super) fn to_setting_value(key: &str, value: &Bound<'_, PyAny>) -> PyResult<SettingValue> {
     if value.is_none() {
         Ok(SettingValue::Null)
@@ -27,7 +30,13 @@ pub(super) fn to_setting_value(key: &str, value: &Bound<'_, PyAny>) -> PyResult<
         Ok(SettingValue::Float(value.extract()?))
     } else if value.is_instance_of::<PyString>() {
         Ok(SettingValue::Text(value.extract()?))
-    } else if value.is_instance_of::<PyDict>() {
+    } else if value.is_instance_of::<PyDict>()
+        || value.is_instance_of::<PySet>()
+        || value.is_instance_of::<PyFrozenSet>()
+        || value.is_instance_of::<PyBytes>()
+        || value.is_instance_of::<PyByteArray>()
+    {
+        // A mapping, an unordered set (its order is not the user's) or bytes (not numbers).
         Err(not_a_setting_value(key, value))
     } else if let Ok(items) = value.try_iter() {
         let items = items
