@@ -1011,43 +1011,43 @@ def analyse(soak: Soak) -> SoakResult:
     reference_rows = mem[mem_rounds == warm - 1]
     after_rows = mem[mem_rounds >= warm]
 
-    def growth(column: int) -> tuple[float, float, float]:
-        """(reference, largest after the warm-up, growth) of a memory column."""
+    def memory_check(name: str, label: str, column: int, limit: float, start: float) -> dict:
+        """Checks that a memory column's largest value after the warm-up is within
+        ``limit`` of its peak in the warm-up's last round; returns its figures."""
         if not len(reference_rows) or not len(after_rows):
-            return math.nan, math.nan, math.nan
-        reference = float(reference_rows[:, column].max())
-        largest = float(after_rows[:, column].max())
-        return reference, largest, largest / reference - 1
-
-    memory_figures: dict[str, Any] = {"per_round": per_round, "samples": len(mem)}
-    if live_measured:
-        reference, largest, grew = growth(4)
+            reference = largest = grew = math.nan
+        else:
+            reference = float(reference_rows[:, column].max())
+            largest = float(after_rows[:, column].max())
+            grew = largest / reference - 1
         detail = (
-            f"live heap peak {reference / mib:.1f} MiB in round {warm} (end of the warm-up), "
+            f"{label} peak {reference / mib:.1f} MiB in round {warm} (end of the warm-up), "
             f"largest after it {largest / mib:.1f} MiB: growth {100 * grew:+.2f} % "
-            f"(limit {100 * LIVE_GROWTH_LIMIT:.0f} %)"
+            f"(limit {100 * limit:.0f} %)"
         )
-        check("no leak: live heap flat", grew <= LIVE_GROWTH_LIMIT, detail)
-        memory_figures["live_heap"] = {
-            "start_mib": soak.live_start / mib,
+        check(name, grew <= limit, detail)
+        return {
+            "start_mib": start / mib,
             "warm_up_peak_mib": reference / mib,
             "max_after_warm_up_mib": largest / mib,
             "growth_after_warm_up": grew,
         }
+
+    memory_figures: dict[str, Any] = {"per_round": per_round, "samples": len(mem)}
+    if live_measured:
+        memory_figures["live_heap"] = memory_check(
+            "no leak: live heap flat", "live heap", 4, LIVE_GROWTH_LIMIT, soak.live_start
+        )
     else:
         lines.append(f"  note: {LIVE_HEAP_NOTE}; the leak check is skipped")
-    reference, largest, grew = growth(2)
-    detail = (
-        f"RSS after malloc_trim peak {reference / mib:.1f} MiB in round {warm} (end of the "
-        f"warm-up), largest after it {largest / mib:.1f} MiB: growth {100 * grew:+.2f} % "
-        f"(limit {100 * RSS_GROWTH_LIMIT:.0f} %)"
-    )
-    check("resident memory flat", grew <= RSS_GROWTH_LIMIT, detail)
     memory_figures["rss_after_trim"] = {
-        "start_mib": soak.rss_start / mib,
-        "warm_up_peak_mib": reference / mib,
-        "max_after_warm_up_mib": largest / mib,
-        "growth_after_warm_up": grew,
+        **memory_check(
+            "resident memory flat",
+            "RSS after malloc_trim",
+            2,
+            RSS_GROWTH_LIMIT,
+            soak.rss_start,
+        ),
         "end_mib": float(mem[-1, 2] / mib),
     }
     # Step time through the run, per configuration.

@@ -445,31 +445,34 @@ def test_huge_bounds_or_psi_are_refused_naming_psi() -> None:
     assert_sane(gpis)
 
 
-def run_with_memory_limit(script: str) -> subprocess.CompletedProcess:
-    """Runs ``script`` in a fresh interpreter limited to 2 GiB of address space, so that
-    an allocation the map cannot make fails fast (and an abort takes only that process)."""
-    limit = "import resource; resource.setrlimit(resource.RLIMIT_AS, (2**31, 2**31))\n"
-    return subprocess.run(
-        [sys.executable, "-c", limit + script], capture_output=True, text=True, timeout=120
+def refusal_of_a_grid_shape(shape: tuple[int, int]) -> str:
+    """The ValueError message of ``Gpis`` with ``shape``, built in a fresh interpreter
+    limited to 2 GiB of address space, so that an allocation the map cannot make fails fast
+    (and an abort takes only that process). Fails the test if the map is accepted or the
+    process dies."""
+    script = (
+        "import resource; resource.setrlimit(resource.RLIMIT_AS, (2**31, 2**31))\n"
+        "from tactile_search import Gpis\n"
+        "try:\n"
+        f"    Gpis(bounds=((0, 1), (0, 1)), shape={shape!r})\n"
+        "except ValueError as error:\n"
+        "    print(error)\n"
+        "else:\n"
+        "    raise SystemExit('accepted')\n"
     )
+    result = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=120
+    )
+    assert result.returncode == 0, result.stderr[-300:]
+    return result.stdout
 
 
 def test_a_grid_too_large_to_allocate_raises_instead_of_aborting() -> None:
     """Found by this fuzzer, fixed in env_core/src/gpis/map.rs (fallible reservations): a
     grid too large to allocate aborted the process (Rust's "memory allocation of N bytes
     failed") instead of raising. Now a ValueError says how much the grid needs."""
-    script = (
-        "from tactile_search import Gpis\n"
-        "try:\n"
-        "    Gpis(bounds=((0, 1), (0, 1)), shape=(100_000, 100_000))\n"
-        "except ValueError as error:\n"
-        "    print(error)\n"
-        "else:\n"
-        "    raise SystemExit('accepted')\n"
-    )
-    result = run_with_memory_limit(script)
-    assert result.returncode == 0, result.stderr[-300:]
-    assert "the map's grid needs" in result.stdout and "GB" in result.stdout, result.stdout
+    message = refusal_of_a_grid_shape((100_000, 100_000))
+    assert "the map's grid needs" in message and "GB" in message, message
 
 
 @pytest.mark.parametrize("shape", [(2**32, 2**32), (2**63, 2)])
@@ -480,15 +483,5 @@ def test_a_grid_whose_cell_count_overflows_raises_instead_of_aborting(
     (``GridSpec::new``): a shape whose cell count overflows 64 bits (H * W >= 2**64)
     wrapped around, so the fallible reservation asked for too little and filling the cell
     centres aborted the process ("memory allocation of N bytes failed")."""
-    script = (
-        "from tactile_search import Gpis\n"
-        "try:\n"
-        f"    Gpis(bounds=((0, 1), (0, 1)), shape={shape!r})\n"
-        "except ValueError as error:\n"
-        "    print(error)\n"
-        "else:\n"
-        "    raise SystemExit('accepted')\n"
-    )
-    result = run_with_memory_limit(script)
-    assert result.returncode == 0, result.stderr[-300:]
-    assert "grid shape must be positive" in result.stdout, result.stdout
+    message = refusal_of_a_grid_shape(shape)
+    assert "grid shape must be positive" in message, message

@@ -275,13 +275,22 @@ def assert_finite(name: str, value: Any) -> None:
     assert np.all(np.isfinite(array)), (name, value)
 
 
-def check_rollout(env: Any, seed: int, steps: int, rng: np.random.Generator) -> None:
-    """A reset and ``steps`` random steps of a single env: everything finite and in its
-    space (a reset refused for the layout is a documented error)."""
+def reset_or_refused(env: Any, seed: int) -> tuple | None:
+    """``env.reset(seed=seed)``'s result, or None if it was refused for the layout with a
+    ValueError naming a setting (a documented error)."""
     reset, error = call(env.reset, seed=seed)
     if error is not None:
         assert isinstance(error, ValueError)
         assert_names_the_setting(error, {})
+        return None
+    return reset
+
+
+def check_rollout(env: Any, seed: int, steps: int, rng: np.random.Generator) -> None:
+    """A reset and ``steps`` random steps of a single env: everything finite and in its
+    space (a reset refused for the layout is a documented error)."""
+    reset = reset_or_refused(env, seed)
+    if reset is None:
         return
     observation, info = reset
     space = env.observation_space
@@ -301,10 +310,8 @@ def check_rollout(env: Any, seed: int, steps: int, rng: np.random.Generator) -> 
 
 
 def check_vector_rollout(env: Any, seed: int, steps: int, rng: np.random.Generator) -> None:
-    reset, error = call(env.reset, seed=seed)
-    if error is not None:
-        assert isinstance(error, ValueError)
-        assert_names_the_setting(error, {})
+    reset = reset_or_refused(env, seed)
+    if reset is None:
         return
     observation, info = reset
     assert env.observation_space.contains(observation)
