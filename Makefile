@@ -32,17 +32,17 @@ demo: $(VENV)/.extra-agents build ## build, install, train two agents briefly, e
 	$(PY) -m experiments.demo --out results/demo_gpis.png
 	$(PY) -m agents.pipeline --budget demo
 
-results: $(VENV)/.extra-agents build ## the documented budget: train every agent, evaluate, write docs/RESULTS.md
+results: $(VENV)/.extra-agents $(VENV)/.extra-scale build ## the documented budget: train every agent, evaluate, write docs/RESULTS.md
 	$(PY) -m agents.pipeline --budget full
 
-test: build-dev lint ## cargo fmt/clippy, ruff, cargo test and pytest
+test: build-dev $(VENV)/.extra-scale lint ## cargo fmt/clippy, ruff, cargo test and pytest (Ray tests on a local cluster)
 	cargo test --workspace
 	$(PY) -m pytest -q
 
 paper: build ## regenerate docs/paper/ figures and docs/PAPER.md's table (experiments/paper)
 	$(PY) -m experiments.paper --out docs/paper
 
-bench: build-dev $(VENV)/.extra-bench ## criterion benchmarks and the Python benchmark scripts (prints figures)
+bench: build-dev $(VENV)/.extra-bench $(VENV)/.extra-scale ## criterion benchmarks and the Python benchmark scripts (prints figures)
 	cargo bench -p env_core --bench gpis_append
 	cargo bench -p env_core --bench scene
 	$(PY) benchmarks/gpis_append.py --out results/gpis_append.png
@@ -50,6 +50,7 @@ bench: build-dev $(VENV)/.extra-bench ## criterion benchmarks and the Python ben
 	$(PY) -m benchmarks.prior_rows
 	$(PY) benchmarks/peer_envs.py --json results/peer_envs.json
 	$(PY) benchmarks/soak.py --out results/soak.png --json results/soak.json
+	$(PY) benchmarks/ray_grid.py --json results/ray_grid.json
 
 fuzz: build-dev ## the long fuzz run: the Rust and Python property tests with many cases (prints counts)
 	PROPTEST_CASES=25000 cargo test --release -p env_core --test fuzz_gpis --test fuzz_settings_and_actions

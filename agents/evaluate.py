@@ -20,7 +20,7 @@ An interrupted evaluation resumes: run the same command again and the rows alrea
 ``episodes.csv`` are reused, only the missing (agent, seed) episodes run, and the files
 come out as an uninterrupted run writes them. A row is reused only if its ``fingerprint``
 (a hash of the installed tactile_search package, the agents' code and, for a learned agent,
-its ``model.zip``) matches; ``--fresh`` runs everything again.
+its model's contents) matches; ``--fresh`` runs everything again.
 """
 
 from __future__ import annotations
@@ -29,9 +29,11 @@ import argparse
 import csv
 import hashlib
 import inspect
+import json
 import math
 import os
 import statistics
+import zipfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -258,11 +260,42 @@ def _digest(paths: Sequence[Path], root: Path) -> bytes:
     return sha.digest()
 
 
+def model_digest(path: Path) -> bytes:
+    """A hash of what a ``model.zip`` holds, not of the archive's bytes, so that the same
+    model trained twice (one run after another, or as a Ray trial) gets the same digest.
+
+    It covers every member (the weights, optimizer state, versions) and the ``data`` member's
+    plain settings; not what differs between identical trainings: the archive's write times,
+    ``data``'s ``start_time`` and its pickled objects (classes and spaces, whose pickles are
+    not byte-stable; the spaces are checked on load, the classes follow from the algorithm)."""
+    sha = hashlib.sha256()
+    try:
+        with zipfile.ZipFile(path) as archive:
+            for name in sorted(archive.namelist()):
+                content = archive.read(name)
+                if name == "data":
+                    data = json.loads(content)
+                    plain = {
+                        key: value
+                        for key, value in data.items()
+                        if key != "start_time"
+                        and not (isinstance(value, dict) and ":serialized:" in value)
+                    }
+                    content = json.dumps(plain, sort_keys=True).encode()
+                sha.update(name.encode() + b"\0" + content + b"\0")
+    except (zipfile.BadZipFile, OSError, EOFError, ValueError) as err:
+        raise ValueError(
+            f"{path} is not a readable model archive (truncated or corrupt?): {err}"
+        ) from err
+    return sha.digest()
+
+
 def code_fingerprints(agent_specs: Sequence[str]) -> dict[str, str]:
     """What produced an agent's rows, per spec: a hash of the installed tactile_search
     package (its Python files and compiled core), the agents' code (``agents/scripted/``,
     which holds the rollout, and ``agents/learned.py``) and, for a learned agent, its
-    ``model.zip``. Rows of another fingerprint are not reused."""
+    ``model.zip``'s contents (``model_digest``). Rows of another fingerprint are not
+    reused."""
     package = Path(tactile_search.__file__).parent
     env_files = [
         p
@@ -276,7 +309,7 @@ def code_fingerprints(agent_specs: Sequence[str]) -> dict[str, str]:
     for spec in agent_specs:
         sha = hashlib.sha256(base)
         if spec not in SCRIPTED_AGENTS:
-            sha.update((Path(spec) / "model.zip").read_bytes())
+            sha.update(model_digest(Path(spec) / "model.zip"))
         fingerprints[spec] = sha.hexdigest()[:16]
     return fingerprints
 
@@ -383,6 +416,40 @@ def record_gif(
     os.replace(tmp, path)
 
 
+def reusable_rows(
+    csv_path: Path,
+    names: Sequence[str],
+    map_modes: Sequence[str],
+    fingerprints: Sequence[str],
+    seeds: Sequence[int],
+) -> dict[tuple[str, int], dict[str, Any]]:
+    """The rows of ``csv_path`` an evaluation of these agents (names, map modes and
+    fingerprints, index by index) on ``seeds`` can reuse, by (agent name, seed); prints how
+    many, and how many it drops (incomplete, or of other agents, seeds or code)."""
+    wanted = {
+        (name, map_mode, seed, fingerprint)
+        for name, map_mode, fingerprint in zip(names, map_modes, fingerprints, strict=True)
+        for seed in seeds
+    }
+    earlier, unreadable = read_episodes_csv(csv_path)
+    done: dict[tuple[str, int], dict[str, Any]] = {}
+    for row in earlier:
+        if (row["agent"], row["map"], row["seed"], row["fingerprint"]) in wanted:
+            done[row["agent"], row["seed"]] = row
+    if earlier or unreadable:
+        dropped = len(earlier) + unreadable - len(done)
+        print(
+            f"reusing {len(done)} episodes of {csv_path}"
+            + (
+                f" (dropped {dropped}: incomplete, or of other agents, seeds or code)"
+                if dropped
+                else ""
+            ),
+            flush=True,
+        )
+    return done
+
+
 def evaluate(
     agent_specs: Sequence[str],
     *,
@@ -422,29 +489,13 @@ def evaluate(
     made = [make_agent(spec) for spec in agent_specs]
     names = unique_names([agent for agent, _ in made], agent_specs)
     fingerprints = code_fingerprints(agent_specs)
-    wanted = {
-        (name, map_mode, seed, fingerprints[spec])
-        for name, (_, map_mode), spec in zip(names, made, agent_specs, strict=True)
-        for seed in seeds
-    }
+    map_modes = [map_mode for _, map_mode in made]
     csv_path = out / "episodes.csv"
-    earlier, unreadable = read_episodes_csv(csv_path) if resume else ([], 0)
-    done: dict[tuple[str, int], dict[str, Any]] = {}
-    for row in earlier:
-        key = (row["agent"], row["map"], row["seed"], row["fingerprint"])
-        if key in wanted:
-            done[row["agent"], row["seed"]] = row
-    if earlier or unreadable:
-        dropped = len(earlier) + unreadable - len(done)
-        print(
-            f"reusing {len(done)} episodes of {csv_path}"
-            + (
-                f" (dropped {dropped}: incomplete, or of other agents, seeds or code)"
-                if dropped
-                else ""
-            ),
-            flush=True,
-        )
+    done = (
+        reusable_rows(csv_path, names, map_modes, [fingerprints[s] for s in agent_specs], seeds)
+        if resume
+        else {}
+    )
 
     def ordered(name: str) -> list[dict[str, Any]]:
         return [done[name, seed] for seed in seeds if (name, seed) in done]

@@ -10,6 +10,13 @@ Two budgets::
 layouts; ``full`` trains every learned agent (PPO with each map mode and the recurrent
 no-map agent) at its recipe's ``n_timesteps`` and evaluates on 200 layouts.
 
+The grid (agents x training seeds, then the evaluation) runs on Ray when it is installed
+(the ``scale`` extra; ``--scheduler ray``): training runs as Tune trials, the evaluation as
+tasks over slices of the layouts, on this machine's cores, or on the cluster at
+``--address`` / ``RAY_ADDRESS`` (``agents.ray_grid``). ``--scheduler local`` runs the same
+trials one after another in this process; both give the same models and episode rows
+(``agents.grid``).
+
 Interrupted at any point (Ctrl-C, a kill), the same command finishes the work without
 redoing what is done: a run whose ``model.zip`` exists is reused (delete the run directory
 to retrain), a partly trained run resumes from its newest checkpoint
@@ -20,27 +27,36 @@ already in ``episodes.csv`` (``agents.evaluate.evaluate``).
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import shutil
 import sys
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import yaml
 
 from agents.evaluate import EVAL_SEED_START, evaluate, markdown_table
-from agents.train import INTERRUPTED_EXIT_STATUS, checkpoints, load_hyperparams, run_name, train
+from agents.grid import TrainingTrial, train_trial
+from agents.train import INTERRUPTED_EXIT_STATUS, load_hyperparams
 
 
 @dataclass(frozen=True)
 class Budget:
-    """What one budget trains and how many held-out episodes it evaluates."""
+    """What one budget trains and how many held-out episodes it evaluates.
+
+    ``cpus_per_trial``: the CPUs a training trial declares, its torch threads and its
+    environment batch's threads. Part of what fixes a model (torch may sum in another order
+    with another thread count), so the same in every scheduler: on Ray, this machine runs
+    ``cores / cpus_per_trial`` trials at once."""
 
     agents: tuple[tuple[str, str], ...]
     timesteps: int | None  # None: each recipe's n_timesteps
     episodes: int
     runs: Path
     results: Path
+    cpus_per_trial: int
 
 
 BUDGETS = {
@@ -50,6 +66,7 @@ BUDGETS = {
         episodes=50,
         runs=Path("runs/demo"),
         results=Path("results"),
+        cpus_per_trial=2,
     ),
     "full": Budget(
         agents=(("ppo", "gpis"), ("ppo", "occupancy"), ("ppo", "none"), ("recurrent_ppo", "none")),
@@ -57,36 +74,40 @@ BUDGETS = {
         episodes=200,
         runs=Path("runs/full"),
         results=Path("docs/results"),
+        cpus_per_trial=1,
     ),
 }
 SCRIPTED = ("random", "gpis_planner", "oracle")
 
 
-def train_all(budget: Budget, seed: int, progress_bar: bool) -> list[Path]:
-    """Trains (or reuses, or resumes) every learned agent of ``budget``; returns the run
+SCHEDULERS = ("ray", "local")
+
+
+def default_scheduler() -> str:
+    """``ray`` when Ray is installed (the ``scale`` extra), else ``local``."""
+    return "ray" if importlib.util.find_spec("ray") is not None else "local"
+
+
+def trials(budget: Budget, seeds: list[int]) -> list[TrainingTrial]:
+    """The budget's training trials: every learned agent with every training seed."""
+    return [
+        TrainingTrial(
+            algo=algo,
+            map_mode=map_mode,
+            seed=seed,
+            runs=str(budget.runs.resolve()),
+            timesteps=budget.timesteps,
+            cpus=budget.cpus_per_trial,
+        )
+        for algo, map_mode in budget.agents
+        for seed in seeds
+    ]
+
+
+def train_all(grid: list[TrainingTrial], progress_bar: bool) -> list[Path]:
+    """Trains (or reuses, or resumes) every trial here, one after another; returns the run
     directories."""
-    run_dirs = []
-    for algo, map_mode in budget.agents:
-        run_dir = budget.runs / run_name(algo, map_mode, seed)
-        if (run_dir / "model.zip").is_file():
-            print(f"reusing {run_dir}", flush=True)
-        else:
-            resume = bool(checkpoints(run_dir))
-            print(
-                f"{'resuming' if resume else 'training'} {algo} with the {map_mode} map",
-                flush=True,
-            )
-            train(
-                algo,
-                map_mode,
-                out=budget.runs,
-                seed=seed,
-                timesteps=budget.timesteps,
-                progress_bar=progress_bar,
-                resume=resume,
-            )
-        run_dirs.append(run_dir)
-    return run_dirs
+    return [train_trial(trial, progress_bar) for trial in grid]
 
 
 def results_markdown(budget_name: str, budget: Budget, run_dirs: list[Path], table: str) -> str:
@@ -150,24 +171,63 @@ def write_results(path: Path, generated: str) -> None:
     path.write_text(text)
 
 
-def run(budget_name: str, seed: int = 0, progress_bar: bool = True) -> Path:
-    """Trains, evaluates and writes the results of ``budget_name``; returns the results dir."""
-    if budget_name not in BUDGETS:
-        raise ValueError(f"budget must be one of {sorted(BUDGETS)}, got {budget_name!r}")
-    budget = BUDGETS[budget_name]
+def run_budget(
+    budget: Budget,
+    seeds: Sequence[int],
+    scheduler: str,
+    address: str | None = None,
+    progress_bar: bool = True,
+) -> tuple[list[Path], str]:
+    """Trains every agent of ``budget`` with every seed in ``seeds``, evaluates them with the
+    scripted baselines and keeps each run's record beside the results; returns the run
+    directories and the results table. ``scheduler``: ``ray`` (Tune trials and Ray tasks, on
+    the cluster at ``address`` or ``RAY_ADDRESS``, else on this machine) or ``local`` (one
+    after another in this process)."""
+    if scheduler not in SCHEDULERS:
+        raise ValueError(f"scheduler must be one of {SCHEDULERS}, got {scheduler!r}")
+    if address is not None and scheduler != "ray":
+        raise ValueError(f"an address is for the ray scheduler, got scheduler {scheduler!r}")
     for algo, map_mode in budget.agents:
         load_hyperparams(algo, map_mode)  # fail before hours of training, not after
-    started = time.perf_counter()
-    run_dirs = train_all(budget, seed, progress_bar)
-    summaries = evaluate(
-        [*map(str, run_dirs), *SCRIPTED], out=budget.results, episodes=budget.episodes
-    )
-    table = markdown_table(summaries)
+    grid = trials(budget, list(seeds))
+    if scheduler == "ray":
+        from agents import ray_grid
+
+        resources = ray_grid.connect(address)
+        print(f"Ray: {resources.get('CPU', 0):g} CPUs; {len(grid)} training trials", flush=True)
+        run_dirs = ray_grid.train_on_ray(grid, storage=budget.runs / "tune")
+        summaries = ray_grid.evaluate_on_ray(
+            [*map(str, run_dirs), *SCRIPTED], out=budget.results, episodes=budget.episodes
+        )
+    else:
+        run_dirs = train_all(grid, progress_bar)
+        summaries = evaluate(
+            [*map(str, run_dirs), *SCRIPTED], out=budget.results, episodes=budget.episodes
+        )
     for run_dir in run_dirs:  # the record of each run beside the results (models stay out)
         record = budget.results / "training" / run_dir.name
         record.mkdir(parents=True, exist_ok=True)
         for name in ("config.yml", "progress.csv"):
             shutil.copyfile(run_dir / name, record / name)
+    return run_dirs, markdown_table(summaries)
+
+
+def run(
+    budget_name: str,
+    seeds: Sequence[int] = (0,),
+    scheduler: str | None = None,
+    address: str | None = None,
+    progress_bar: bool = True,
+) -> Path:
+    """Trains, evaluates and writes the results of ``budget_name``; returns the results dir.
+    ``scheduler`` defaults to ``default_scheduler()``."""
+    if budget_name not in BUDGETS:
+        raise ValueError(f"budget must be one of {sorted(BUDGETS)}, got {budget_name!r}")
+    budget = BUDGETS[budget_name]
+    started = time.perf_counter()
+    run_dirs, table = run_budget(
+        budget, seeds, scheduler or default_scheduler(), address, progress_bar
+    )
     if budget_name == "full":
         path = budget.results.parent / "RESULTS.md"
         write_results(path, results_markdown(budget_name, budget, run_dirs, table))
@@ -180,11 +240,29 @@ def run(budget_name: str, seed: int = 0, progress_bar: bool = True) -> Path:
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--budget", choices=sorted(BUDGETS), default="demo")
-    parser.add_argument("--seed", type=int, default=0, help="training seed")
+    parser.add_argument(
+        "--seeds", type=int, nargs="+", default=[0], help="training seeds (one run per agent each)"
+    )
+    parser.add_argument(
+        "--scheduler",
+        choices=SCHEDULERS,
+        default=default_scheduler(),
+        help="ray: Tune trials and Ray tasks (the default when Ray is installed); "
+        "local: one run after another in this process",
+    )
+    parser.add_argument(
+        "--address", help="a Ray cluster's address (default: RAY_ADDRESS, else Ray on this machine)"
+    )
     parser.add_argument("--no-progress", action="store_true")
     args = parser.parse_args(argv)
     try:
-        run(args.budget, args.seed, progress_bar=not args.no_progress)
+        run(
+            args.budget,
+            args.seeds,
+            args.scheduler,
+            args.address,
+            progress_bar=not args.no_progress,
+        )
     except KeyboardInterrupt:
         print(
             "\ninterrupted: run the same command again to finish (finished runs are reused, a "

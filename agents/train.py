@@ -103,9 +103,14 @@ def load_hyperparams(
 
 
 def make_training_env(
-    env_kwargs: dict[str, Any], n_envs: int, seed: int, env_id: str = ENV_ID
+    env_kwargs: dict[str, Any],
+    n_envs: int,
+    seed: int,
+    env_id: str = ENV_ID,
+    threads: int | None = None,
 ) -> Any:
-    """The SB3 vector env for training: the Rust batch, monitored for episode statistics."""
+    """The SB3 vector env for training: the Rust batch (``threads`` worker threads, default
+    every core), monitored for episode statistics."""
     from stable_baselines3.common.vec_env import VecMonitor
 
     from tactile_search.envs.sb3_vec_env import CupboardSearchSb3VecEnv
@@ -115,6 +120,7 @@ def make_training_env(
         num_envs=n_envs,
         seed=seed,
         layout_seeds=TRAIN_LAYOUT_SEEDS,
+        threads=threads,
         **env_kwargs,
     )
     return VecMonitor(venv, info_keywords=("success", "tips", "jar_displacement", "iou"))
@@ -418,6 +424,7 @@ def train(
     timesteps: int | None = None,
     n_envs: int | None = None,
     torch_threads: int = 2,
+    env_threads: int | None = None,
     progress_bar: bool = True,
     env_id: str = ENV_ID,
     hyperparams: Path | None = None,
@@ -434,7 +441,9 @@ def train(
     ``torch_threads`` sets torch's intra-op threads. On this 2-core machine, training alone,
     2 threads ran PPO with the GPIS map 1.38x faster than 1 (median 1148 vs 832 steps/s,
     ``python benchmarks/train_threads.py --timesteps 8192 --repeats 2``); use 1 when two
-    runs share the cores.
+    runs share the cores. ``env_threads`` sets the environment batch's worker threads
+    (default: every core; the results do not depend on it); a run given one CPU (a Ray
+    trial) uses one.
 
     Checkpoints go to ``<run_dir>/checkpoints/`` at the first rollout boundary after every
     ``checkpoint_every`` env steps; the newest ``keep_checkpoints`` are kept. Ctrl-C saves a
@@ -468,6 +477,8 @@ def train(
         raise ValueError(f"timesteps must be >= 1, got {timesteps}")
     if torch_threads < 1:
         raise ValueError(f"torch_threads must be >= 1, got {torch_threads}")
+    if env_threads is not None:
+        _check_positive_int("env_threads", env_threads)
     if max_minutes is not None and not max_minutes > 0:
         raise ValueError(f"max_minutes must be > 0, got {max_minutes}")
     _check_positive_int("checkpoint_every", checkpoint_every)
@@ -549,7 +560,11 @@ def train(
     if resume:
         done = checkpoints(run_dir)[-1][0]
         env = make_training_env(
-            recipe["env_kwargs"], recipe["n_envs"], resumed_env_seed(seed, done), env_id
+            recipe["env_kwargs"],
+            recipe["n_envs"],
+            resumed_env_seed(seed, done),
+            env_id,
+            env_threads,
         )
         model = None
         for _, path in reversed(checkpoints(run_dir)):
@@ -584,7 +599,7 @@ def train(
     else:
         done = 0
         set_random_seed(seed)
-        env = make_training_env(recipe["env_kwargs"], recipe["n_envs"], seed, env_id)
+        env = make_training_env(recipe["env_kwargs"], recipe["n_envs"], seed, env_id, env_threads)
         algo_kwargs = {k: v for k, v in recipe.items() if k not in RUN_KEYS}
         model = cls(recipe["policy"], env, seed=seed, device="cpu", **algo_kwargs)
         logger = make_logger(run_dir)
@@ -659,6 +674,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--n-envs", type=int, help="override the recipe's n_envs")
     parser.add_argument("--max-minutes", type=float, help="stop after this much wall-clock")
     parser.add_argument("--torch-threads", type=int, default=2)
+    parser.add_argument(
+        "--env-threads", type=int, help="the environment batch's threads (default: every core)"
+    )
     parser.add_argument("--out", type=Path, default=Path("runs"))
     parser.add_argument("--hyperparams", type=Path, help="a recipe file instead of the default")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -689,6 +707,7 @@ def main(argv: list[str] | None = None) -> None:
             timesteps=args.timesteps,
             n_envs=args.n_envs,
             torch_threads=args.torch_threads,
+            env_threads=args.env_threads,
             progress_bar=not args.no_progress,
             hyperparams=args.hyperparams,
             max_minutes=args.max_minutes,

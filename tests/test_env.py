@@ -195,3 +195,56 @@ def test_render_draws_the_scene_beside_the_map_and_writes_a_gif(mode: str, tmp_p
     # Without a render mode: gymnasium's convention, a warning and None.
     with pytest.warns(UserWarning, match="render mode"):
         assert CupboardSearchEnv(map=mode).render() is None
+
+
+class SeedSpy:
+    """A vector env's batch that records the layout seeds its episodes are reset with."""
+
+    def __init__(self, batch) -> None:
+        self.batch = batch
+        self.seeds: list[int] = []
+
+    def reset_many(self, pairs):
+        self.seeds += [seed for _, seed in pairs]
+        return self.batch.reset_many(pairs)
+
+    def step(self, actions, resets):
+        self.seeds += [seed for _, seed in resets or []]
+        return self.batch.step(actions, resets)
+
+    def __getattr__(self, name: str):
+        return getattr(self.batch, name)
+
+
+def drawn_layout_seeds(env: CupboardSearchVectorEnv, seed: int, steps: int) -> list[int]:
+    spy = SeedSpy(env._batch)
+    env._batch = spy
+    env.reset(seed=seed)
+    for _ in range(steps):
+        env.step(np.ones((env.num_envs, 3), dtype=np.float32))
+    return spy.seeds
+
+
+def test_vector_env_draws_every_layout_from_its_layout_range() -> None:
+    low, high = 2**32, 2**63
+    env = CupboardSearchVectorEnv(num_envs=3, map="none", max_steps=4, layout_seeds=(low, high))
+    seeds = drawn_layout_seeds(env, seed=7, steps=20)
+    assert len(seeds) == 3 + 3 * 4  # the first episodes, then an autoreset every 5th step
+    assert all(low <= s < high for s in seeds)
+    narrow = CupboardSearchVectorEnv(num_envs=2, map="none", max_steps=2, layout_seeds=(10, 13))
+    assert set(drawn_layout_seeds(narrow, seed=0, steps=30)) == {10, 11, 12}
+
+
+def test_vector_env_default_layout_range_draws_what_v0_always_drew() -> None:
+    env = CupboardSearchVectorEnv(num_envs=3, map="none")
+    expected = gym.utils.seeding.np_random(5)[0].integers(0, 2**63, size=3)
+    assert drawn_layout_seeds(env, seed=5, steps=0) == [int(s) for s in expected]
+
+
+@pytest.mark.parametrize(
+    ("layout_seeds", "error"),
+    [((5, 5), ValueError), ((-1, 3), ValueError), ((0, 2**64 + 1), ValueError), ("ab", TypeError)],
+)
+def test_vector_env_refuses_a_bad_layout_range(layout_seeds, error) -> None:
+    with pytest.raises(error, match="layout_seeds"):
+        CupboardSearchVectorEnv(num_envs=1, map="none", layout_seeds=layout_seeds)

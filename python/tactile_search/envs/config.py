@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import inspect
+import operator
 from collections.abc import Callable, Iterable
 from typing import Any
 
@@ -82,6 +83,20 @@ CupboardSearchConfig = dataclasses.make_dataclass(
         "__module__": __name__,
     },
 )
+
+
+def checked_layout_seeds(layout_seeds: Any) -> tuple[int, int]:
+    """``layout_seeds`` as ``(low, high)`` ints: the range ``[low, high)`` within
+    ``[0, 2**64)`` that a vector env draws its episodes' layout seeds from."""
+    try:
+        low, high = (operator.index(bound) for bound in layout_seeds)
+    except (TypeError, ValueError):
+        raise TypeError(
+            f"layout_seeds must be a pair of ints (low, high), got {layout_seeds!r}"
+        ) from None
+    if not 0 <= low < high <= 2**64:
+        raise ValueError(f"layout_seeds must be [low, high) within [0, 2**64), got {layout_seeds}")
+    return low, high
 
 
 def settings_parameters() -> list[inspect.Parameter]:

@@ -20,7 +20,11 @@ from typing import Any
 import numpy as np
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
-from tactile_search.envs.config import CupboardSearchConfig, with_settings_signature
+from tactile_search.envs.config import (
+    CupboardSearchConfig,
+    checked_layout_seeds,
+    with_settings_signature,
+)
 from tactile_search.envs.cupboard_search import ACTION_SPACE, observation_space
 from tactile_search.envs.vector import observation_dict
 
@@ -47,12 +51,7 @@ class CupboardSearchSb3VecEnv(VecEnv):
     ) -> None:
         if not isinstance(num_envs, int) or num_envs < 1:
             raise ValueError(f"num_envs must be a positive int, got {num_envs!r}")
-        low, high = layout_seeds
-        if not 0 <= low < high <= 2**64:
-            raise ValueError(
-                f"layout_seeds must be [low, high) within [0, 2**64), got {layout_seeds}"
-            )
-        self.layout_seeds = (int(low), int(high))
+        self.layout_seeds = checked_layout_seeds(layout_seeds)
         self.config = CupboardSearchConfig(**kwargs)
         self._rng = np.random.default_rng(seed)
         self._batch = self.config.make_batch(self._new_seeds(num_envs), threads=threads)

@@ -21,7 +21,11 @@ import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from tactile_search.envs.config import CupboardSearchConfig, with_settings_signature
+from tactile_search.envs.config import (
+    CupboardSearchConfig,
+    checked_layout_seeds,
+    with_settings_signature,
+)
 from tactile_search.envs.cupboard_search import ACTION_SPACE, observation_space
 
 
@@ -36,6 +40,9 @@ class CupboardSearchVectorEnv(VectorEnv):
     Args:
         num_envs: number of episodes.
         threads: worker threads (default: every core).
+        layout_seeds: ``[low, high)``, the range the episodes' layout seeds are drawn from
+            by the env's generator (``np_random``, seeded by ``reset(seed=...)``); keep
+            training out of the validation and test ranges with ``(2**32, 2**63)``.
         copy: return fresh arrays each step (True) or the batch's own arrays, overwritten
             by the next step (False; saves a copy of every output per step).
         **kwargs: the fields of ``CupboardSearchConfig`` (``max_steps`` is the time limit).
@@ -51,10 +58,12 @@ class CupboardSearchVectorEnv(VectorEnv):
         num_envs: int = 2,
         threads: int | None = None,
         copy: bool = True,
+        layout_seeds: tuple[int, int] = (0, 2**63),
         **kwargs: Any,
     ) -> None:
         if not isinstance(num_envs, int) or num_envs < 1:
             raise ValueError(f"num_envs must be a positive int, got {num_envs!r}")
+        self.layout_seeds = checked_layout_seeds(layout_seeds)
         self.num_envs = num_envs
         self.copy = bool(copy)
         self.config = CupboardSearchConfig(**kwargs)
@@ -66,7 +75,10 @@ class CupboardSearchVectorEnv(VectorEnv):
         self._needs_reset = np.zeros(num_envs, dtype=bool)
 
     def _seeds(self, count: int) -> list[int]:
-        return [int(s) for s in self.np_random.integers(0, 2**63, size=count)]
+        low, high = self.layout_seeds
+        # int64 draws while the range fits them (the default range draws what it always did).
+        dtype = np.int64 if high <= 2**63 else np.uint64
+        return [int(s) for s in self.np_random.integers(low, high, size=count, dtype=dtype)]
 
     def reset(
         self, *, seed: int | list[int] | None = None, options: dict[str, Any] | None = None

@@ -1,0 +1,127 @@
+"""The experiment grid's units of work, whoever schedules them: a training trial (one agent,
+map mode and training seed) and an evaluation shard (one agent on a slice of the layouts).
+
+``agents.pipeline`` runs them one after another in this process, or hands them to Ray
+(``agents.ray_grid``: Tune trials and Ray tasks, on this machine or a cluster). What a unit
+produces depends only on its own fields, never on where or in what order it ran:
+
+- a trial's model is fixed by its algorithm's recipe, map mode, seed, timesteps and
+  ``cpus`` (its torch threads: torch's CPU kernels may sum in another order with another
+  thread count; the environment batch's threads do not change its results);
+- a shard's rows are fixed by the agent (its model's contents) and the layout seeds: every
+  episode starts from its layout seed, and a scripted agent with a random generator is
+  seeded per episode (``agents.evaluate.SeededPerEpisode``).
+"""
+
+from __future__ import annotations
+
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from agents.train import checkpoints, run_name, train
+
+# The files of a run directory an evaluation needs (``agents.learned.LearnedAgent``).
+EVALUATED_RUN_FILES = ("model.zip", "config.yml")
+
+
+@dataclass(frozen=True)
+class TrainingTrial:
+    """One training run of the grid.
+
+    ``runs``: the directory that holds the run directories (absolute, so a Ray trial, which
+    runs in a directory of Tune's, writes to the same place). ``timesteps``: ``None`` for
+    the recipe's ``n_timesteps``. ``cpus``: the CPUs the trial declares, used as its torch
+    threads and its environment batch's threads. ``n_envs``: ``None`` for the recipe's."""
+
+    algo: str
+    map_mode: str
+    seed: int
+    runs: str
+    timesteps: int | None
+    cpus: int
+    n_envs: int | None = None
+
+    def __post_init__(self) -> None:
+        if not Path(self.runs).is_absolute():
+            raise ValueError(f"runs must be an absolute path, got {self.runs!r}")
+        if isinstance(self.cpus, bool) or not isinstance(self.cpus, int) or self.cpus < 1:
+            raise ValueError(f"cpus must be an int >= 1, got {self.cpus!r}")
+
+    @property
+    def run_dir(self) -> Path:
+        return Path(self.runs) / run_name(self.algo, self.map_mode, self.seed)
+
+    @property
+    def name(self) -> str:
+        return self.run_dir.name
+
+
+def train_trial(trial: TrainingTrial, progress_bar: bool = False) -> Path:
+    """Runs ``trial`` to its end: reuses a finished run (its ``model.zip`` exists; delete the
+    run directory to retrain), resumes a partly trained one from its newest checkpoint, or
+    trains it afresh. Returns the run directory."""
+    run_dir = trial.run_dir
+    if (run_dir / "model.zip").is_file():
+        print(f"reusing {run_dir}", flush=True)
+        return run_dir
+    resume = bool(checkpoints(run_dir))
+    print(
+        f"{'resuming' if resume else 'training'} {trial.algo} with the {trial.map_mode} map, "
+        f"seed {trial.seed}",
+        flush=True,
+    )
+    return train(
+        trial.algo,
+        trial.map_mode,
+        out=Path(trial.runs),
+        seed=trial.seed,
+        timesteps=trial.timesteps,
+        n_envs=trial.n_envs,
+        torch_threads=trial.cpus,
+        env_threads=trial.cpus,
+        progress_bar=progress_bar,
+        resume=resume,
+    )
+
+
+def run_files(run_dir: Path) -> dict[str, bytes]:
+    """The files of ``run_dir`` an evaluation shard needs, to send to a machine that may not
+    see ``run_dir``."""
+    missing = [name for name in EVALUATED_RUN_FILES if not (run_dir / name).is_file()]
+    if missing:
+        raise ValueError(f"{run_dir} is not a finished training run: it lacks {missing}")
+    return {name: (run_dir / name).read_bytes() for name in EVALUATED_RUN_FILES}
+
+
+def evaluate_shard(
+    spec: str, files: dict[str, bytes] | None, seeds: list[int]
+) -> list[dict[str, Any]]:
+    """One episode per seed of the agent ``spec`` (a scripted name, or a run whose ``files``
+    are given), as ``agents.scripted.rollout.run_episodes`` summarises them. Uses one torch
+    thread, as ``agents.evaluate.evaluate`` does."""
+    from agents.evaluate import make_agent
+    from agents.scripted.rollout import run_episodes
+
+    if files is None:
+        agent, map_mode = make_agent(spec)
+    else:
+        import torch
+
+        from agents.learned import LearnedAgent
+
+        torch.set_num_threads(1)
+        with tempfile.TemporaryDirectory(prefix="tactile_search_run_") as tmp:
+            for name, content in files.items():
+                (Path(tmp) / name).write_bytes(content)
+            agent = LearnedAgent(Path(tmp))  # holds the model in memory from here on
+        map_mode = agent.map_mode
+    return run_episodes(agent, seeds, map=map_mode)
+
+
+def shards(seeds: list[int], size: int) -> list[list[int]]:
+    """``seeds`` in consecutive slices of at most ``size``."""
+    if isinstance(size, bool) or not isinstance(size, int) or size < 1:
+        raise ValueError(f"the shard size must be an int >= 1, got {size!r}")
+    return [seeds[i : i + size] for i in range(0, len(seeds), size)]

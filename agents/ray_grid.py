@@ -1,0 +1,195 @@
+"""The experiment grid on Ray: training trials as Ray Tune trials, the evaluation as Ray tasks
+(one per agent and slice of the layouts), on this machine or on a cluster.
+
+Where it runs: with no address (neither ``address`` nor ``RAY_ADDRESS``), ``connect`` starts
+Ray on this machine with its cores; with one (``ray start --head`` prints it), the same
+command runs on that cluster. Every node needs this repository's environment installed
+(``make build``, or ``pip install`` of the package with the ``agents`` extra); the ``agents``
+package itself is shipped to the workers (Ray's ``py_modules``). On a cluster the run
+directories and Tune's storage must be on a file system every node sees (NFS), as Tune
+requires; an evaluation shard gets its model's files sent with it and needs no shared files.
+
+What a trial or shard produces depends only on its fields (``agents.grid``), so the grid run
+here gives the models and episode rows of the grid run one trial after another. A trial that
+fails is retried (``max_failures``), resuming from its newest checkpoint; the other trials go
+on, and the failures are reported at the end (``GridError``). A grid stopped half-way resumes
+when run again: finished runs are reused, partly trained ones resume, and the evaluation
+reuses the rows already in ``episodes.csv``.
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+from collections.abc import Sequence
+from dataclasses import asdict
+from pathlib import Path
+from typing import Any
+
+import ray
+from ray import tune
+
+import agents
+from agents.evaluate import (
+    EPISODE_COLUMNS,
+    Summary,
+    code_fingerprints,
+    episode_row,
+    evaluate,
+    held_out_seeds,
+    make_agent,
+    reusable_rows,
+    unique_names,
+    write_episodes_csv,
+)
+from agents.grid import TrainingTrial, evaluate_shard, run_files, shards, train_trial
+from agents.scripted import SCRIPTED_AGENTS
+from agents.train import read_run_config
+
+# Retries of a failed training trial or evaluation shard before it is reported as failed.
+DEFAULT_MAX_FAILURES = 2
+# Episodes per evaluation task: small enough to spread 200 layouts over many cores, large
+# enough that loading the model (~0.1 s) is a small part of a task.
+DEFAULT_SHARD_EPISODES = 25
+
+
+class GridError(RuntimeError):
+    """Some trials or shards failed after their retries (the rest finished and was kept)."""
+
+
+def connect(address: str | None = None, num_cpus: int | None = None) -> dict[str, Any]:
+    """Connects to Ray, once per process: to the cluster at ``address`` (or ``RAY_ADDRESS``),
+    or a new local Ray with ``num_cpus`` (default: every core). Returns the cluster's
+    resources."""
+    if not ray.is_initialized():
+        address = address or os.environ.get("RAY_ADDRESS") or None
+        ray.init(
+            address=address,
+            num_cpus=None if address else num_cpus,
+            include_dashboard=False,
+            runtime_env={
+                "py_modules": [str(Path(agents.__file__).parent)],
+                # Before any worker loads torch (agents.train says why).
+                "env_vars": {"OMP_WAIT_POLICY": os.environ.get("OMP_WAIT_POLICY", "PASSIVE")},
+            },
+            logging_level="WARNING",
+        )
+    return ray.cluster_resources()
+
+
+def _trial_resources(config: dict[str, Any]) -> dict[str, float]:
+    return {"cpu": config["trial"]["cpus"]}
+
+
+def _train_trainable(config: dict[str, Any]) -> None:
+    """A Tune trial: train (or resume, or reuse) one run, then report its figures."""
+    trial = TrainingTrial(**config["trial"])
+    run_dir = train_trial(trial)
+    record = read_run_config(run_dir)
+    tune.report(
+        {
+            "timesteps_done": int(record["timesteps_done"]),
+            "wall_clock_seconds": float(record["wall_clock_seconds"]),
+        }
+    )
+
+
+def train_on_ray(
+    trials: Sequence[TrainingTrial],
+    storage: Path,
+    max_failures: int = DEFAULT_MAX_FAILURES,
+    verbose: int = 1,
+) -> list[Path]:
+    """Runs ``trials`` as Tune trials, each declaring its ``cpus``; Tune's records go under
+    ``storage``. Returns the run directories in the order of ``trials``; raises
+    ``GridError`` naming the trials that failed after ``max_failures`` retries (the others'
+    runs are finished and kept)."""
+    if not trials:
+        return []
+    names = [trial.name for trial in trials]
+    if len(set(names)) != len(names):
+        raise ValueError(f"each trial may appear once, got {names}")
+    tuner = tune.Tuner(
+        tune.with_resources(_train_trainable, _trial_resources),
+        param_space={"trial": tune.grid_search([asdict(trial) for trial in trials])},
+        run_config=tune.RunConfig(
+            name="train",
+            storage_path=str(Path(storage).resolve()),
+            failure_config=tune.FailureConfig(max_failures=max_failures),
+            verbose=verbose,
+        ),
+    )
+    results = tuner.fit()
+    failed = [
+        f"{TrainingTrial(**result.config['trial']).name}: {result.error!r}"
+        for result in results
+        if result.error is not None
+    ]
+    if failed:
+        raise GridError(
+            f"{len(failed)} of {len(trials)} training trials failed after {max_failures} "
+            "retries (the finished runs are kept; run the same command again to retry):\n  "
+            + "\n  ".join(failed)
+        )
+    return [trial.run_dir for trial in trials]
+
+
+@ray.remote(num_cpus=1)
+def _evaluation_task(spec: str, files: dict[str, bytes] | None, seeds: list[int]) -> list[dict]:
+    return evaluate_shard(spec, files, seeds)
+
+
+def evaluate_on_ray(
+    agent_specs: Sequence[str],
+    *,
+    out: Path,
+    episodes: int,
+    shard_episodes: int = DEFAULT_SHARD_EPISODES,
+    max_failures: int = DEFAULT_MAX_FAILURES,
+    gifs: bool = True,
+) -> list[Summary]:
+    """``agents.evaluate.evaluate`` with the episodes run as Ray tasks: each agent's missing
+    (layout) episodes in slices of ``shard_episodes``, every row appended to
+    ``<out>/episodes.csv`` as its task ends. Then ``evaluate`` writes the table, plots and
+    GIFs from those rows (reusing them all), as it does after a run of its own. A task that
+    fails is retried ``max_failures`` times; if some still fail, ``GridError`` names them
+    after the others have finished (their rows are kept: run again to finish)."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    seeds = held_out_seeds(episodes)
+    made = [make_agent(spec) for spec in agent_specs]
+    names = unique_names([agent for agent, _ in made], agent_specs)
+    map_modes = [map_mode for _, map_mode in made]
+    fingerprints = code_fingerprints(agent_specs)
+    csv_path = out / "episodes.csv"
+    done = reusable_rows(
+        csv_path, names, map_modes, [fingerprints[spec] for spec in agent_specs], seeds
+    )
+    write_episodes_csv(csv_path, list(done.values()))
+    task = _evaluation_task.options(max_retries=max_failures, retry_exceptions=True)
+    pending: dict[Any, tuple[str, str, str, list[int]]] = {}
+    for spec, name, map_mode in zip(agent_specs, names, map_modes, strict=True):
+        todo = [seed for seed in seeds if (name, seed) not in done]
+        files = None if spec in SCRIPTED_AGENTS else ray.put(run_files(Path(spec)))
+        for shard in shards(todo, shard_episodes):
+            pending[task.remote(spec, files, shard)] = (name, map_mode, fingerprints[spec], shard)
+    failed = []
+    with csv_path.open("a", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(EPISODE_COLUMNS))
+        while pending:
+            [ready], _ = ray.wait(list(pending), num_returns=1)
+            name, map_mode, fingerprint, shard = pending.pop(ready)
+            try:
+                results = ray.get(ready)
+            except Exception as err:  # the task's error after its retries
+                failed.append(f"{name}, seeds {shard[0]}..{shard[-1]}: {err!r}")
+                continue
+            writer.writerows(episode_row(name, map_mode, r, fingerprint) for r in results)
+            f.flush()
+    if failed:
+        raise GridError(
+            f"{len(failed)} evaluation shards failed after {max_failures} retries (the other "
+            "rows are in episodes.csv; run the same command again to finish):\n  "
+            + "\n  ".join(failed)
+        )
+    return evaluate(agent_specs, out=out, episodes=episodes, gifs=gifs, resume=True)
