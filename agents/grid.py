@@ -2,7 +2,7 @@
 map mode and training seed) and an evaluation shard (one agent on a slice of the layouts).
 
 ``agents.pipeline`` runs them one after another in this process, or hands them to Ray
-(``agents.ray_grid``: Tune trials and Ray tasks, on this machine or a cluster). What a unit
+(``agents.ray_grid``: Ray tasks, on this machine or a cluster). What a unit
 produces depends only on its own fields, never on where or in what order it ran:
 
 - a trial's model is fixed by its algorithm's recipe, map mode, seed, timesteps and
@@ -31,7 +31,7 @@ class TrainingTrial:
     """One training run of the grid.
 
     ``runs``: the directory that holds the run directories (absolute, so a Ray trial, which
-    runs in a directory of Tune's, writes to the same place). ``timesteps``: ``None`` for
+    may run in another working directory, writes to the same place). ``timesteps``: ``None`` for
     the recipe's ``n_timesteps``. ``cpus``: the CPUs the trial declares, used as its torch
     threads and its environment batch's threads. ``n_envs``: ``None`` for the recipe's."""
 

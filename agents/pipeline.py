@@ -11,7 +11,7 @@ layouts; ``full`` trains every learned agent (PPO with each map mode and the rec
 no-map agent) at its recipe's ``n_timesteps`` and evaluates on 200 layouts.
 
 The grid (agents x training seeds, then the evaluation) runs on Ray when it is installed
-(the ``scale`` extra; ``--scheduler ray``): training runs as Tune trials, the evaluation as
+(the ``scale`` extra; ``--scheduler ray``): training trials and the evaluation run as Ray
 tasks over slices of the layouts, on this machine's cores, or on the cluster at
 ``--address`` / ``RAY_ADDRESS`` (``agents.ray_grid``). ``--scheduler local`` runs the same
 trials one after another in this process; both give the same models and episode rows
@@ -180,7 +180,7 @@ def run_budget(
 ) -> tuple[list[Path], str]:
     """Trains every agent of ``budget`` with every seed in ``seeds``, evaluates them with the
     scripted baselines and keeps each run's record beside the results; returns the run
-    directories and the results table. ``scheduler``: ``ray`` (Tune trials and Ray tasks, on
+    directories and the results table. ``scheduler``: ``ray`` (Ray tasks, on
     the cluster at ``address`` or ``RAY_ADDRESS``, else on this machine) or ``local`` (one
     after another in this process)."""
     if scheduler not in SCHEDULERS:
@@ -191,11 +191,15 @@ def run_budget(
         load_hyperparams(algo, map_mode)  # fail before hours of training, not after
     grid = trials(budget, list(seeds))
     if scheduler == "ray":
-        from agents import ray_grid
+        import ray
 
-        resources = ray_grid.connect(address)
-        print(f"Ray: {resources.get('CPU', 0):g} CPUs; {len(grid)} training trials", flush=True)
-        run_dirs = ray_grid.train_on_ray(grid, storage=budget.runs / "tune")
+        from agents import ray_grid
+        from agents.ray_session import connect
+
+        connect(address)
+        cpus = ray.cluster_resources().get("CPU", 0)
+        print(f"Ray: {cpus:g} CPUs; {len(grid)} training trials", flush=True)
+        run_dirs = ray_grid.train_on_ray(grid)
         summaries = ray_grid.evaluate_on_ray(
             [*map(str, run_dirs), *SCRIPTED], out=budget.results, episodes=budget.episodes
         )
@@ -247,7 +251,7 @@ def main(argv: list[str] | None = None) -> None:
         "--scheduler",
         choices=SCHEDULERS,
         default=default_scheduler(),
-        help="ray: Tune trials and Ray tasks (the default when Ray is installed); "
+        help="ray: Ray tasks (the default when Ray is installed); "
         "local: one run after another in this process",
     )
     parser.add_argument(

@@ -1,13 +1,17 @@
-"""The experiment grid on Ray: training trials as Ray Tune trials, the evaluation as Ray tasks
-(one per agent and slice of the layouts), on this machine or on a cluster.
+"""The experiment grid on Ray: each training trial a Ray task, the evaluation Ray tasks too (one
+per agent and slice of the layouts), on this machine or on a cluster.
 
-Where it runs: with no address (neither ``address`` nor ``RAY_ADDRESS``), ``connect`` starts
-Ray on this machine with its cores; with one (``ray start --head`` prints it), the same
-command runs on that cluster. Every node needs this repository's environment installed
-(``make build``, or ``pip install`` of the package with the ``agents`` extra); the ``agents``
-package itself is shipped to the workers (Ray's ``py_modules``). On a cluster the run
-directories and Tune's storage must be on a file system every node sees (NFS), as Tune
-requires; an evaluation shard gets its model's files sent with it and needs no shared files.
+Plain tasks, not Tune trials: a grid of fixed recipes needs no search, and a Tune trial adds
+its own start-up and bookkeeping and runs the training in a thread beside Tune's work, which
+measured slower here (``benchmarks/ray_grid.py`` as of the commit that ran the grid on Tune).
+
+Where it runs: connect first (``agents.ray_session.connect``): with no address (neither
+``address`` nor ``RAY_ADDRESS``) on this machine with its cores, else on that cluster. Every
+node needs this repository's environment installed (``make build``, or ``pip install`` of
+the package with the ``agents`` extra). On a cluster the run directories must be on a file
+system every node sees (NFS): a trial writes its run there, and a retried or resumed trial
+reads its checkpoints back, wherever it runs; an evaluation shard gets its model's files
+sent with it and needs no shared files.
 
 What a trial or shard produces depends only on its fields (``agents.grid``), so the grid run
 here gives the models and episode rows of the grid run one trial after another. A trial that
@@ -20,16 +24,13 @@ reuses the rows already in ``episodes.csv``.
 from __future__ import annotations
 
 import csv
-import os
 from collections.abc import Sequence
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
 import ray
-from ray import tune
 
-import agents
 from agents.evaluate import (
     EPISODE_COLUMNS,
     Summary,
@@ -44,7 +45,6 @@ from agents.evaluate import (
 )
 from agents.grid import TrainingTrial, evaluate_shard, run_files, shards, train_trial
 from agents.scripted import SCRIPTED_AGENTS
-from agents.train import read_run_config
 
 # Retries of a failed training trial or evaluation shard before it is reported as failed.
 DEFAULT_MAX_FAILURES = 2
@@ -57,74 +57,41 @@ class GridError(RuntimeError):
     """Some trials or shards failed after their retries (the rest finished and was kept)."""
 
 
-def connect(address: str | None = None, num_cpus: int | None = None) -> dict[str, Any]:
-    """Connects to Ray, once per process: to the cluster at ``address`` (or ``RAY_ADDRESS``),
-    or a new local Ray with ``num_cpus`` (default: every core). Returns the cluster's
-    resources."""
-    if not ray.is_initialized():
-        address = address or os.environ.get("RAY_ADDRESS") or None
-        ray.init(
-            address=address,
-            num_cpus=None if address else num_cpus,
-            include_dashboard=False,
-            runtime_env={
-                "py_modules": [str(Path(agents.__file__).parent)],
-                # Before any worker loads torch (agents.train says why).
-                "env_vars": {"OMP_WAIT_POLICY": os.environ.get("OMP_WAIT_POLICY", "PASSIVE")},
-            },
-            logging_level="WARNING",
-        )
-    return ray.cluster_resources()
-
-
-def _trial_resources(config: dict[str, Any]) -> dict[str, float]:
-    return {"cpu": config["trial"]["cpus"]}
-
-
-def _train_trainable(config: dict[str, Any]) -> None:
-    """A Tune trial: train (or resume, or reuse) one run, then report its figures."""
-    trial = TrainingTrial(**config["trial"])
-    run_dir = train_trial(trial)
-    record = read_run_config(run_dir)
-    tune.report(
-        {
-            "timesteps_done": int(record["timesteps_done"]),
-            "wall_clock_seconds": float(record["wall_clock_seconds"]),
-        }
-    )
+@ray.remote
+def _training_task(fields: dict[str, Any]) -> str:
+    """One training trial (``agents.grid.train_trial``): trains, resumes or reuses it."""
+    return str(train_trial(TrainingTrial(**fields)))
 
 
 def train_on_ray(
-    trials: Sequence[TrainingTrial],
-    storage: Path,
-    max_failures: int = DEFAULT_MAX_FAILURES,
-    verbose: int = 1,
+    trials: Sequence[TrainingTrial], max_failures: int = DEFAULT_MAX_FAILURES
 ) -> list[Path]:
-    """Runs ``trials`` as Tune trials, each declaring its ``cpus``; Tune's records go under
-    ``storage``. Returns the run directories in the order of ``trials``; raises
-    ``GridError`` naming the trials that failed after ``max_failures`` retries (the others'
-    runs are finished and kept)."""
-    if not trials:
-        return []
+    """Runs ``trials`` as Ray tasks, each declaring its ``cpus``, as many at once as the
+    cluster's CPUs hold. Returns the run directories in the order of ``trials``; raises
+    ``GridError`` naming the trials that failed after ``max_failures`` retries (a retry
+    resumes from the trial's newest checkpoint; the other trials' runs are finished and
+    kept)."""
     names = [trial.name for trial in trials]
     if len(set(names)) != len(names):
         raise ValueError(f"each trial may appear once, got {names}")
-    tuner = tune.Tuner(
-        tune.with_resources(_train_trainable, _trial_resources),
-        param_space={"trial": tune.grid_search([asdict(trial) for trial in trials])},
-        run_config=tune.RunConfig(
-            name="train",
-            storage_path=str(Path(storage).resolve()),
-            failure_config=tune.FailureConfig(max_failures=max_failures),
-            verbose=verbose,
-        ),
-    )
-    results = tuner.fit()
-    failed = [
-        f"{TrainingTrial(**result.config['trial']).name}: {result.error!r}"
-        for result in results
-        if result.error is not None
-    ]
+    pending = {
+        _training_task.options(
+            num_cpus=trial.cpus, max_retries=max_failures, retry_exceptions=True
+        ).remote(asdict(trial)): trial
+        for trial in trials
+    }
+    failed, finished = [], 0
+    while pending:
+        [ready], _ = ray.wait(list(pending), num_returns=1)
+        trial = pending.pop(ready)
+        try:
+            ray.get(ready)
+        except Exception as err:  # the trial's error after its retries
+            failed.append(f"{trial.name}: {err!r}")
+            print(f"failed: {trial.name} ({type(err).__name__})", flush=True)
+            continue
+        finished += 1
+        print(f"finished {trial.name} ({finished} of {len(trials)})", flush=True)
     if failed:
         raise GridError(
             f"{len(failed)} of {len(trials)} training trials failed after {max_failures} "

@@ -4,8 +4,10 @@ Prints three figures (``python benchmarks/ray_grid.py``; ~10 min on 2 cores):
 
 1. **Grid speed-up.** Four equal trials (PPO with the GPIS map, training seeds 0-3, at
    ``--timesteps``), trained one after another in one process (``--scheduler local``) and as
-   Tune trials on a local Ray (each trial declares the full budget's one CPU). Each is a
+   Ray tasks on a local Ray (each trial declares the full budget's one CPU). Each is a
    fresh process timed from start to end, so Ray's start-up counts against it.
+   As a control, the same trials split over plain processes (one per trial slot, no Ray):
+   the speed-up this machine's cores give at all.
 2. **Overhead.** One trial (PPO with the GPIS map) run directly (``agents.grid.train_trial``
    in a fresh process) and as the only trial on Ray (a fresh process that starts Ray); also
    without Ray's start-up (the time after ``ray.init`` returned).
@@ -55,9 +57,10 @@ connected = started
 if spec["scheduler"] == "ray":
     from pathlib import Path
     from agents import ray_grid
-    ray_grid.connect(num_cpus=spec["cpus"])
+    from agents.ray_session import connect
+    connect(num_cpus=spec["cpus"])
     connected = time.perf_counter()
-    ray_grid.train_on_ray(trials, storage=Path(spec["storage"]), verbose=0)
+    ray_grid.train_on_ray(trials)
 else:
     for trial in trials:
         train_trial(trial)
@@ -66,22 +69,40 @@ print("RESULT " + json.dumps({"total": ended - started, "after_start": ended - c
 """
 
 
-def run_child(trials: list[dict], scheduler: str, storage: Path, cpus: int) -> dict[str, float]:
-    """Runs ``trials`` in a fresh process; its timings (seconds)."""
-    spec = {"trials": trials, "scheduler": scheduler, "storage": str(storage), "cpus": cpus}
-    done = subprocess.run(
+def start_child(trials: list[dict], scheduler: str, cpus: int) -> subprocess.Popen:
+    """Starts a fresh process that runs ``trials``."""
+    spec = {"trials": trials, "scheduler": scheduler, "cpus": cpus}
+    return subprocess.Popen(
         [sys.executable, "-c", CHILD, json.dumps(spec)],
         cwd=REPO,
-        capture_output=True,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
         text=True,
-        check=False,
     )
-    lines = [line for line in done.stdout.splitlines() if line.startswith("RESULT ")]
-    if done.returncode != 0 or not lines:
-        raise RuntimeError(
-            f"the {scheduler} run failed:\n{done.stdout[-3000:]}{done.stderr[-3000:]}"
-        )
+
+
+def child_timings(child: subprocess.Popen, what: str) -> dict[str, float]:
+    """The timings a child printed (seconds), once it has ended."""
+    stdout, stderr = child.communicate()
+    lines = [line for line in stdout.splitlines() if line.startswith("RESULT ")]
+    if child.returncode != 0 or not lines:
+        raise RuntimeError(f"the {what} run failed:\n{stdout[-3000:]}{stderr[-3000:]}")
     return json.loads(lines[-1].removeprefix("RESULT "))
+
+
+def run_child(trials: list[dict], scheduler: str, cpus: int) -> dict[str, float]:
+    """Runs ``trials`` in a fresh process; its timings (seconds)."""
+    return child_timings(start_child(trials, scheduler, cpus), scheduler)
+
+
+def run_split(trials: list[dict], processes: int) -> float:
+    """Seconds to run ``trials`` split over ``processes`` plain processes at once, each
+    running its share one after another (no Ray): what this machine's cores give."""
+    started = time.perf_counter()
+    children = [start_child(trials[i::processes], "local", 1) for i in range(processes)]
+    for child in children:
+        child_timings(child, "split")
+    return time.perf_counter() - started
 
 
 def trial_dicts(
@@ -180,7 +201,7 @@ def timed_pair(
     timings = {}
     for scheduler in kinds:
         runs = tmp / f"{label}_{scheduler}"
-        timings[scheduler] = run_child(trials_of(runs), scheduler, tmp / "tune", os.cpu_count())
+        timings[scheduler] = run_child(trials_of(runs), scheduler, os.cpu_count())
         timings[scheduler]["runs"] = str(runs)
         print(f"{label}, {scheduler}: {timings[scheduler]['total']:.1f} s", flush=True)
     return timings
@@ -198,7 +219,7 @@ def main(argv: list[str] | None = None) -> None:
     args = parser.parse_args(argv)
     cores = os.cpu_count() or 1
     cpus = FULL.cpus_per_trial
-    grid: dict[str, list[float]] = {"local": [], "ray": []}
+    grid: dict[str, list[float]] = {"local": [], "ray": [], "split": []}
     single: dict[str, list[float]] = {"local": [], "ray": [], "ray_after_start": []}
     with tempfile.TemporaryDirectory(prefix="ray_grid_bench_") as tmp_name:
         tmp = Path(tmp_name)
@@ -213,6 +234,12 @@ def main(argv: list[str] | None = None) -> None:
             )
             for kind in kinds:
                 grid[kind].append(timings[kind]["total"])
+            # The machine's own ceiling: the same trials in plain processes, one per slot.
+            four = trial_dicts(
+                tmp / f"split_{round_index}", [("ppo", "gpis")], args.timesteps, cpus, 4
+            )
+            grid["split"].append(run_split(four, cores // cpus))
+            print(f"grid_{round_index}, plain processes: {grid['split'][-1]:.1f} s", flush=True)
             # (2) One of them alone.
             timings = timed_pair(
                 tmp,
@@ -230,12 +257,12 @@ def main(argv: list[str] | None = None) -> None:
         run_child(
             trial_dicts(runs, list(FULL.agents), args.rate_timesteps, cpus),
             "ray",
-            tmp / "tune",
             cores,
         )
         rates = training_rates(runs)
         per_episode = episode_seconds(runs, args.episodes)
     local, on_ray = statistics.median(grid["local"]), statistics.median(grid["ray"])
+    split = statistics.median(grid["split"])
     direct, single_ray = statistics.median(single["local"]), statistics.median(single["ray"])
     after_start = statistics.median(single["ray_after_start"])
     print()
@@ -245,7 +272,8 @@ def main(argv: list[str] | None = None) -> None:
     )
     print(
         f"(1) grid of 4 trials: one after another {local:.1f} s, on Ray {on_ray:.1f} s: "
-        f"x{local / on_ray:.2f} (target >= 1.7)"
+        f"x{local / on_ray:.2f} (target >= 1.7); in {cores // cpus} plain processes without "
+        f"Ray {split:.1f} s: x{local / split:.2f}, what the cores give at all"
     )
     print(
         f"(2) one trial: directly {direct:.1f} s, on Ray {single_ray:.1f} s "

@@ -1,5 +1,5 @@
 """The experiment grid on a local Ray cluster (a head and a worker node on this machine):
-training trials on Tune and evaluation shards as tasks give the models and episode rows of
+training trials and evaluation shards as Ray tasks give the models and episode rows of
 the same grid run one trial after another, a grid run again reuses what finished, and a
 failing trial is reported while the rest of the grid finishes."""
 
@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-pytest.importorskip("ray.tune")
+pytest.importorskip("ray")
 pytest.importorskip("stable_baselines3")
 
 import ray
@@ -19,6 +19,7 @@ from ray.cluster_utils import Cluster
 from agents import ray_grid
 from agents.evaluate import evaluate, model_digest
 from agents.grid import TrainingTrial, evaluate_shard, shards, train_trial
+from agents.ray_session import connect
 
 # A few hundred steps a trial: two rollouts of 2 envs x 64 steps.
 TIMESTEPS = 256
@@ -33,9 +34,9 @@ def cluster():
     local = Cluster(initialize_head=True, head_node_args={"num_cpus": 1})
     local.add_node(num_cpus=1)
     local.wait_for_nodes()
-    resources = ray_grid.connect(address=local.address)
+    connect(address=local.address)
     try:
-        yield resources
+        yield ray.cluster_resources()
     finally:
         ray.shutdown()
         local.shutdown()
@@ -59,7 +60,7 @@ def test_cluster_has_two_nodes(cluster) -> None:
 
 
 def test_grid_on_ray_equals_the_grid_run_one_trial_after_another(cluster, tmp_path) -> None:
-    on_ray = ray_grid.train_on_ray(tiny_trials(tmp_path / "ray"), storage=tmp_path / "tune")
+    on_ray = ray_grid.train_on_ray(tiny_trials(tmp_path / "ray"))
     here = [train_trial(trial) for trial in tiny_trials(tmp_path / "local")]
     assert [d.name for d in on_ray] == [d.name for d in here]
     for ray_run, local_run in zip(on_ray, here, strict=True):
@@ -85,7 +86,7 @@ def test_grid_on_ray_equals_the_grid_run_one_trial_after_another(cluster, tmp_pa
 
     # Run again: the finished runs are reused (not retrained), every row is reused.
     before = {d: (d / "model.zip").stat().st_mtime_ns for d in on_ray}
-    again = ray_grid.train_on_ray(tiny_trials(tmp_path / "ray"), storage=tmp_path / "tune")
+    again = ray_grid.train_on_ray(tiny_trials(tmp_path / "ray"))
     assert {d: (d / "model.zip").stat().st_mtime_ns for d in again} == before
 
 
@@ -107,7 +108,7 @@ def test_a_failing_trial_is_reported_and_the_rest_of_the_grid_finishes(cluster, 
     # An unknown algorithm fails inside the trial, on every attempt.
     bad = TrainingTrial("not_an_algo", "none", 0, str((tmp_path / "runs").resolve()), 256, 1)
     with pytest.raises(ray_grid.GridError, match="not_an_algo_none_seed0") as caught:
-        ray_grid.train_on_ray([good[0], bad], storage=tmp_path / "tune", max_failures=1)
+        ray_grid.train_on_ray([good[0], bad], max_failures=1)
     assert "1 of 2 training trials failed" in str(caught.value)
     assert (good[0].run_dir / "model.zip").is_file()
 
@@ -122,7 +123,7 @@ def test_trials_and_shards_refuse_what_they_cannot_run(tmp_path) -> None:
     assert shards([1, 2, 3, 4, 5], 2) == [[1, 2], [3, 4], [5]]
     with pytest.raises(ValueError, match="each trial may appear once"):
         trial = tiny_trials(tmp_path, maps=("none",))[0]
-        ray_grid.train_on_ray([trial, trial], storage=tmp_path / "tune")
+        ray_grid.train_on_ray([trial, trial])
 
 
 def test_a_shard_runs_the_episodes_of_its_seeds() -> None:
