@@ -5,10 +5,11 @@ Importable functions under a thin CLI::
     python -m agents.evaluate --runs runs/ppo_gpis_seed0 runs/ppo_none_seed0 \\
         --scripted random gpis_planner oracle --episodes 200 --out results
 
-Every agent meets the same held-out layouts: seeds ``EVAL_SEED_START ...`` (below 2**32,
-never drawn in training: ``agents.train.TRAIN_LAYOUT_SEEDS``), in the environment's default
-reward (no shaping) with the map mode the agent was trained with (scripted agents use the
-GPIS map). Writes to ``--out``:
+Every agent meets the same held-out layouts: the first seeds of the validation range
+(``agents.seed_ranges``: 1,000,000 and up, never drawn in training), or of the test range
+(2,000,000 and up) in the final evaluation only (``--split test --final``: ``make results``
+does it), in the environment's default reward (no shaping) with the map mode the agent was
+trained with (scripted agents use the GPIS map). Writes to ``--out``:
 
 - ``results.md``: the table (success rate with its 95 % Wilson interval, steps to success
   as median and quartiles, jar displacement, tips, final map IoU);
@@ -42,12 +43,12 @@ from typing import Any
 import numpy as np
 
 import tactile_search  # also registers the environment
+from agents.learned import evaluation_env_kwargs
 from agents.scripted import SCRIPTED_AGENTS
 from agents.scripted.rollout import run_episodes
-from agents.train import TRAIN_LAYOUT_SEEDS, write_atomically
+from agents.seed_ranges import SPLITS, held_out_seeds
+from agents.train import read_run_config, write_atomically
 
-EVAL_SEED_START = 1_000_000
-assert EVAL_SEED_START + 100_000 < TRAIN_LAYOUT_SEEDS[0]
 # The z of a two-sided 95 % interval.
 Z_95 = 1.959963984540054
 
@@ -89,11 +90,16 @@ def wilson_interval(successes: int, n: int, z: float = Z_95) -> tuple[float, flo
     return max(0.0, min(p, centre - half)), min(1.0, max(p, centre + half))
 
 
-def held_out_seeds(episodes: int) -> list[int]:
-    """The first ``episodes`` held-out layout seeds."""
-    if episodes < 1:
-        raise ValueError(f"episodes must be >= 1, got {episodes}")
-    return list(range(EVAL_SEED_START, EVAL_SEED_START + episodes))
+def evaluation_seeds(split: str, episodes: int, final: bool = False) -> list[int]:
+    """The first ``episodes`` layout seeds of the held-out range ``split``; the test range
+    only for the final evaluation (``final=True``), so that nothing is chosen on it."""
+    if split == "test" and final is not True:
+        raise ValueError(
+            "the test layouts are read only by the final results (make results, "
+            "agents.pipeline --budget full): develop on split='validation', or pass "
+            "final=True (--final) for the final evaluation"
+        )
+    return held_out_seeds(split, episodes)
 
 
 def summarize(agent: str, map_mode: str, episodes: Sequence[dict[str, Any]]) -> Summary:
@@ -149,20 +155,22 @@ def markdown_table(summaries: Sequence[Summary]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def make_agent(spec: str) -> tuple[Any, str]:
-    """An agent and its map mode from a scripted name or a run directory.
+def make_agent(spec: str) -> tuple[Any, dict[str, Any]]:
+    """An agent and the settings of the env it is evaluated in (with its ``map``) from a
+    scripted name (the GPIS map) or a run directory (its recipe's env settings without the
+    reward terms: ``agents.learned.evaluation_env_kwargs``).
 
     A scripted agent that takes a ``seed`` (the random agent) is made afresh for every
     episode, seeded with the episode's layout seed (``SeededPerEpisode``)."""
     if spec in SCRIPTED_AGENTS:
         factory = SCRIPTED_AGENTS[spec]
         if "seed" in inspect.signature(factory).parameters:
-            return SeededPerEpisode(factory), "gpis"
-        return factory(), "gpis"
+            return SeededPerEpisode(factory), {"map": "gpis"}
+        return factory(), {"map": "gpis"}
     from agents.learned import LearnedAgent
 
     agent = LearnedAgent(Path(spec))
-    return agent, agent.map_mode
+    return agent, agent.env_kwargs
 
 
 class SeededPerEpisode:
@@ -310,6 +318,8 @@ def code_fingerprints(agent_specs: Sequence[str]) -> dict[str, str]:
         sha = hashlib.sha256(base)
         if spec not in SCRIPTED_AGENTS:
             sha.update(model_digest(Path(spec) / "model.zip"))
+            env_kwargs = evaluation_env_kwargs(read_run_config(Path(spec)))
+            sha.update(json.dumps(env_kwargs, sort_keys=True, default=str).encode())
         fingerprints[spec] = sha.hexdigest()[:16]
     return fingerprints
 
@@ -395,10 +405,16 @@ def plot_learning_curves(path: Path, runs: dict[str, Path]) -> None:
 
 
 def record_gif(
-    path: Path, agent: Any, map_mode: str, seed: int, max_steps: int = 200, stride: int = 2
+    path: Path,
+    agent: Any,
+    env_kwargs: dict[str, Any],
+    seed: int,
+    max_steps: int = 200,
+    stride: int = 2,
 ) -> None:
-    """The first ``max_steps`` steps of ``agent`` on layout ``seed`` as a GIF, one frame every
-    ``stride`` steps plus the last (a frame takes ~0.2 s to draw)."""
+    """The first ``max_steps`` steps of ``agent`` on layout ``seed`` in the env of
+    ``env_kwargs`` as a GIF, one frame every ``stride`` steps plus the last (a frame takes
+    ~0.2 s to draw)."""
     from tactile_search.render import save_gif
 
     frames: list[np.ndarray] = []
@@ -408,7 +424,7 @@ def record_gif(
             frames.append(env.render())
 
     run_episodes(
-        agent, [seed], max_steps=max_steps, on_step=capture, map=map_mode, render_mode="rgb_array"
+        agent, [seed], max_steps=max_steps, on_step=capture, render_mode="rgb_array", **env_kwargs
     )
     # Through a temporary file: a GIF that exists is a whole one.
     tmp = path.with_name(f"{path.stem}.tmp.gif")
@@ -455,12 +471,17 @@ def evaluate(
     *,
     out: Path = Path("results"),
     episodes: int = 200,
+    split: str = "validation",
+    final: bool = False,
     gifs: bool = True,
     gif_steps: int = 200,
     torch_threads: int = 1,
     resume: bool = True,
 ) -> list[Summary]:
     """Runs every agent on the same held-out layouts and writes the table, plots and GIFs.
+
+    ``split``: ``validation`` or ``test`` (``agents.seed_ranges``; the test range only with
+    ``final=True``, ``evaluation_seeds``); the first ``episodes`` seeds of it.
 
     ``agent_specs``: scripted agent names (``random``, ``gpis_planner``, ``oracle``) and run
     directories of ``agents.train``. ``gif_steps`` caps the steps an example GIF shows.
@@ -485,11 +506,11 @@ def evaluate(
         torch.set_num_threads(torch_threads)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    seeds = held_out_seeds(episodes)
+    seeds = evaluation_seeds(split, episodes, final)
     made = [make_agent(spec) for spec in agent_specs]
     names = unique_names([agent for agent, _ in made], agent_specs)
     fingerprints = code_fingerprints(agent_specs)
-    map_modes = [map_mode for _, map_mode in made]
+    map_modes = [env_kwargs["map"] for _, env_kwargs in made]
     csv_path = out / "episodes.csv"
     done = (
         reusable_rows(csv_path, names, map_modes, [fingerprints[s] for s in agent_specs], seeds)
@@ -505,8 +526,9 @@ def evaluate(
     runs: dict[str, Path] = {}
     with csv_path.open("a", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(EPISODE_COLUMNS))
-        for spec, name, (agent, map_mode) in zip(agent_specs, names, made, strict=True):
+        for spec, name, (agent, env_kwargs) in zip(agent_specs, names, made, strict=True):
             reused = bool(ordered(name))
+            map_mode = env_kwargs["map"]
 
             def keep(
                 result: dict[str, Any],
@@ -521,7 +543,7 @@ def evaluate(
 
             todo = [seed for seed in seeds if (name, seed) not in done]
             if todo:
-                run_episodes(agent, todo, map=map_mode, on_episode=keep)
+                run_episodes(agent, todo, on_episode=keep, **env_kwargs)
             results = ordered(name)
             summaries.append(summarize(name, map_mode, results))
             all_episodes.append(results)
@@ -533,13 +555,13 @@ def evaluate(
                 gif_path = out / "gifs" / f"{file_name}.gif"
                 if not (reused and gif_path.is_file()):
                     gif_path.parent.mkdir(exist_ok=True)
-                    record_gif(gif_path, agent, map_mode, seeds[0], max_steps=gif_steps)
+                    record_gif(gif_path, agent, env_kwargs, seeds[0], max_steps=gif_steps)
             print(markdown_table(summaries[-1:]).splitlines()[-1], flush=True)
     write_episodes_csv(csv_path, [row for name in names for row in ordered(name)])
     table = markdown_table(summaries)
     write_atomically(
         out / "results.md",
-        f"Held-out layout seeds {seeds[0]}..{seeds[-1]} ({episodes} per agent).\n\n{table}",
+        f"Held-out {split} layout seeds {seeds[0]}..{seeds[-1]} ({episodes} per agent).\n\n{table}",
     )
     plot_success(out / "success.png", summaries)
     plot_steps(out / "steps.png", names, all_episodes)
@@ -558,6 +580,17 @@ def main(argv: list[str] | None = None) -> None:
         help="scripted baselines to include",
     )
     parser.add_argument("--episodes", type=int, default=200)
+    parser.add_argument(
+        "--split",
+        choices=sorted(SPLITS),
+        default="validation",
+        help="the held-out layouts (agents/seed_ranges.py); test only with --final",
+    )
+    parser.add_argument(
+        "--final",
+        action="store_true",
+        help="this is the final evaluation, which alone may read the test layouts",
+    )
     parser.add_argument("--out", type=Path, default=Path("results"))
     parser.add_argument("--no-gifs", action="store_true")
     parser.add_argument("--gif-steps", type=int, default=200, help="steps shown per GIF")
@@ -571,6 +604,8 @@ def main(argv: list[str] | None = None) -> None:
         [*args.runs, *args.scripted],
         out=args.out,
         episodes=args.episodes,
+        split=args.split,
+        final=args.final,
         gifs=not args.no_gifs,
         gif_steps=args.gif_steps,
         resume=not args.fresh,

@@ -16,7 +16,7 @@ produces depends only on its own fields, never on where or in what order it ran:
 from __future__ import annotations
 
 import tempfile
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -42,6 +42,9 @@ class TrainingTrial:
     timesteps: int | None
     cpus: int
     n_envs: int | None = None
+    # The code's git commit and dirty flag for config.yml, from where the grid was started
+    # (a Ray worker's copy of ``agents`` is not a git checkout); None: the trainer's own.
+    code: dict[str, Any] | None = field(default=None, hash=False)
 
     def __post_init__(self) -> None:
         if not Path(self.runs).is_absolute():
@@ -83,6 +86,7 @@ def train_trial(trial: TrainingTrial, progress_bar: bool = False) -> Path:
         env_threads=trial.cpus,
         progress_bar=progress_bar,
         resume=resume,
+        code=trial.code,
     )
 
 
@@ -105,7 +109,7 @@ def evaluate_shard(
     from agents.scripted.rollout import run_episodes
 
     if files is None:
-        agent, map_mode = make_agent(spec)
+        agent, env_kwargs = make_agent(spec)
     else:
         import torch
 
@@ -116,8 +120,8 @@ def evaluate_shard(
             for name, content in files.items():
                 (Path(tmp) / name).write_bytes(content)
             agent = LearnedAgent(Path(tmp))  # holds the model in memory from here on
-        map_mode = agent.map_mode
-    return run_episodes(agent, seeds, map=map_mode)
+        env_kwargs = agent.env_kwargs
+    return run_episodes(agent, seeds, **env_kwargs)
 
 
 def shards(seeds: list[int], size: int) -> list[list[int]]:

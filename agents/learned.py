@@ -11,6 +11,17 @@ from typing import Any
 import numpy as np
 
 from agents.train import algorithm_class, read_run_config
+from tactile_search.envs.config import REWARD_KEYS
+
+
+def evaluation_env_kwargs(config: dict[str, Any]) -> dict[str, Any]:
+    """The settings of the env a run is evaluated in: its recipe's ``env_kwargs`` (the map,
+    the grid, the jars, ...) without the reward terms (evaluation scores every agent in the
+    environment's default reward), from the run's ``config.yml``."""
+    recipe = config.get("hyperparams", {})
+    env_kwargs = dict(recipe.get("env_kwargs", {})) if isinstance(recipe, dict) else {}
+    env_kwargs["map"] = config["map"]
+    return {key: value for key, value in env_kwargs.items() if key not in REWARD_KEYS}
 
 
 def load_model(model_path: Path, algo: str) -> Any:
@@ -66,6 +77,8 @@ class LearnedAgent:
         if not model_path.is_file():
             raise ValueError(f"{run_dir} is not a finished training run: {model_path} is missing")
         self.map_mode: str = self.config["map"]
+        #: The settings of the env this agent is evaluated in (``evaluation_env_kwargs``).
+        self.env_kwargs: dict[str, Any] = evaluation_env_kwargs(self.config)
         self.name = name or f"{self.config['algo']} ({self.map_mode} map)"
         self.model = load_model(model_path, self.config["algo"])
         self._check_spaces(model_path)
@@ -84,7 +97,7 @@ class LearnedAgent:
         """The model's spaces against those of the env it will be evaluated in."""
         from tactile_search import CupboardSearchEnv
 
-        env = CupboardSearchEnv(map=self.map_mode)
+        env = CupboardSearchEnv(**self.env_kwargs)
         try:
             for kind, expected in (
                 ("observation", env.observation_space),
@@ -93,9 +106,9 @@ class LearnedAgent:
                 got = getattr(self.model, f"{kind}_space")
                 if got != expected:
                     raise ValueError(
-                        f"{model_path} expects the {kind} space {got}, but the env with the "
-                        f"{self.map_mode!r} map of its config.yml has {expected} (trained with "
-                        "other env settings, or config.yml does not belong to this model)"
+                        f"{model_path} expects the {kind} space {got}, but the env of its "
+                        f"config.yml's settings {self.env_kwargs} has {expected} (config.yml "
+                        "does not belong to this model?)"
                     )
         finally:
             env.close()

@@ -37,9 +37,10 @@ from pathlib import Path
 
 import yaml
 
-from agents.evaluate import EVAL_SEED_START, evaluate, markdown_table
+from agents.evaluate import evaluate, markdown_table
 from agents.grid import TrainingTrial, train_trial
-from agents.train import INTERRUPTED_EXIT_STATUS, load_hyperparams
+from agents.seed_ranges import held_out_seeds
+from agents.train import INTERRUPTED_EXIT_STATUS, code_version, load_hyperparams
 
 
 @dataclass(frozen=True)
@@ -57,6 +58,8 @@ class Budget:
     runs: Path
     results: Path
     cpus_per_trial: int
+    # The held-out layouts (agents.seed_ranges): the test range is the final results' alone.
+    split: str = "validation"
 
 
 BUDGETS = {
@@ -75,6 +78,7 @@ BUDGETS = {
         runs=Path("runs/full"),
         results=Path("docs/results"),
         cpus_per_trial=1,
+        split="test",
     ),
 }
 SCRIPTED = ("random", "gpis_planner", "oracle")
@@ -90,6 +94,7 @@ def default_scheduler() -> str:
 
 def trials(budget: Budget, seeds: list[int]) -> list[TrainingTrial]:
     """The budget's training trials: every learned agent with every training seed."""
+    code = code_version()
     return [
         TrainingTrial(
             algo=algo,
@@ -98,6 +103,7 @@ def trials(budget: Budget, seeds: list[int]) -> list[TrainingTrial]:
             runs=str(budget.runs.resolve()),
             timesteps=budget.timesteps,
             cpus=budget.cpus_per_trial,
+            code=code,
         )
         for algo, map_mode in budget.agents
         for seed in seeds
@@ -133,10 +139,12 @@ def results_markdown(budget_name: str, budget: Budget, run_dirs: list[Path], tab
             f"| `agents/hyperparams/{algo}.yml`, n_envs {recipe['n_envs']}, "
             f"env {recipe['env_kwargs']} |"
         )
+    seeds = held_out_seeds(budget.split, budget.episodes)
     lines += [
         "",
-        f"Training draws layout seeds from [2^32, 2^63); evaluation uses the held-out layouts "
-        f"{EVAL_SEED_START}..{EVAL_SEED_START + budget.episodes - 1}, the same for every agent,",
+        f"Training draws layout seeds from [2^32, 2^63); evaluation uses the held-out "
+        f"{budget.split} layouts {seeds[0]}..{seeds[-1]} (`agents/seed_ranges.py`), the same for "
+        "every agent,",
         "with the environment's default reward (no shaping). Scripted agents run with the GPIS",
         "map (the planner reads it; the random agent and the oracle ignore it).",
         "",
@@ -201,12 +209,20 @@ def run_budget(
         print(f"Ray: {cpus:g} CPUs; {len(grid)} training trials", flush=True)
         run_dirs = ray_grid.train_on_ray(grid)
         summaries = ray_grid.evaluate_on_ray(
-            [*map(str, run_dirs), *SCRIPTED], out=budget.results, episodes=budget.episodes
+            [*map(str, run_dirs), *SCRIPTED],
+            out=budget.results,
+            episodes=budget.episodes,
+            split=budget.split,
+            final=budget.split == "test",
         )
     else:
         run_dirs = train_all(grid, progress_bar)
         summaries = evaluate(
-            [*map(str, run_dirs), *SCRIPTED], out=budget.results, episodes=budget.episodes
+            [*map(str, run_dirs), *SCRIPTED],
+            out=budget.results,
+            episodes=budget.episodes,
+            split=budget.split,
+            final=budget.split == "test",
         )
     for run_dir in run_dirs:  # the record of each run beside the results (models stay out)
         record = budget.results / "training" / run_dir.name

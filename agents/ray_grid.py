@@ -37,7 +37,7 @@ from agents.evaluate import (
     code_fingerprints,
     episode_row,
     evaluate,
-    held_out_seeds,
+    evaluation_seeds,
     make_agent,
     reusable_rows,
     unique_names,
@@ -111,6 +111,8 @@ def evaluate_on_ray(
     *,
     out: Path,
     episodes: int,
+    split: str = "validation",
+    final: bool = False,
     shard_episodes: int = DEFAULT_SHARD_EPISODES,
     max_failures: int = DEFAULT_MAX_FAILURES,
     gifs: bool = True,
@@ -123,10 +125,10 @@ def evaluate_on_ray(
     after the others have finished (their rows are kept: run again to finish)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    seeds = held_out_seeds(episodes)
+    seeds = evaluation_seeds(split, episodes, final)
     made = [make_agent(spec) for spec in agent_specs]
     names = unique_names([agent for agent, _ in made], agent_specs)
-    map_modes = [map_mode for _, map_mode in made]
+    map_modes = [env_kwargs["map"] for _, env_kwargs in made]
     fingerprints = code_fingerprints(agent_specs)
     csv_path = out / "episodes.csv"
     done = reusable_rows(
@@ -159,4 +161,6 @@ def evaluate_on_ray(
             "rows are in episodes.csv; run the same command again to finish):\n  "
             + "\n  ".join(failed)
         )
-    return evaluate(agent_specs, out=out, episodes=episodes, gifs=gifs, resume=True)
+    return evaluate(
+        agent_specs, out=out, episodes=episodes, split=split, final=final, gifs=gifs, resume=True
+    )

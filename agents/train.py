@@ -29,6 +29,7 @@ import os
 import platform
 import re
 import shlex
+import subprocess
 import sys
 import time
 from collections.abc import Iterator
@@ -40,6 +41,7 @@ import numpy as np
 import yaml
 
 import tactile_search
+from agents import seed_ranges
 from tactile_search.envs.config import MAP_MODES
 
 # Torch's OpenMP threads busy-wait between parallel regions by default; on this 2-core
@@ -54,7 +56,7 @@ ENV_ID = "tactile_search/CupboardSearch-v0"
 HYPERPARAMS_DIR = Path(__file__).parent / "hyperparams"
 ALGORITHMS = ("ppo", "recurrent_ppo")
 # Training layouts are drawn from [2**32, 2**63); evaluation holds out seeds below 2**32.
-TRAIN_LAYOUT_SEEDS = (2**32, 2**63)
+TRAIN_LAYOUT_SEEDS = seed_ranges.TRAINING
 # Recipe keys that configure the run rather than the algorithm.
 RUN_KEYS = ("n_timesteps", "max_minutes", "n_envs", "policy", "env_kwargs")
 # A checkpoint at the first rollout boundary after every this many env steps (with the
@@ -143,6 +145,29 @@ def versions() -> dict[str, str]:
         "gymnasium": gym.__version__,
         "python": platform.python_version(),
     }
+
+
+def code_version(repo: Path | None = None) -> dict[str, Any]:
+    """The code that produced a run: the git commit of ``repo`` (default: the checkout this
+    ``agents`` package sits in) and whether its tree differed from the commit (``dirty``:
+    changed or new files that git does not ignore). Both ``None`` outside a git checkout,
+    e.g. in a Ray worker's copy of ``agents``: there the driver's version is passed in."""
+    repo = Path(__file__).resolve().parents[1] if repo is None else Path(repo)
+
+    def git(*args: str) -> str:
+        done = subprocess.run(
+            ["git", "-C", str(repo), *args], capture_output=True, text=True, timeout=30
+        )
+        if done.returncode != 0:
+            raise subprocess.SubprocessError(done.stderr.strip())
+        return done.stdout.strip()
+
+    try:
+        commit = git("rev-parse", "HEAD")
+        dirty = bool(git("status", "--porcelain"))
+    except (OSError, subprocess.SubprocessError):
+        return {"commit": None, "dirty": None}
+    return {"commit": commit, "dirty": dirty}
 
 
 def wall_clock_limit(minutes: float) -> Any:
@@ -432,8 +457,12 @@ def train(
     checkpoint_every: int = DEFAULT_CHECKPOINT_EVERY,
     keep_checkpoints: int = DEFAULT_KEEP_CHECKPOINTS,
     resume: bool = False,
+    code: dict[str, Any] | None = None,
 ) -> Path:
     """Trains one agent and returns its run directory (``model.zip``, ``config.yml``, logs).
+
+    ``config.yml`` records ``code`` (the git commit and whether the tree was dirty), by
+    default ``code_version()`` of this checkout.
 
     ``timesteps`` and ``n_envs`` override the recipe's ``n_timesteps`` and ``n_envs``;
     ``max_minutes`` (or the recipe's ``max_minutes``) stops training earlier on wall-clock
@@ -548,6 +577,7 @@ def train(
             "train_layout_seeds": list(TRAIN_LAYOUT_SEEDS),
             "hyperparams": recipe,
             "versions": versions(),
+            "code": code or code_version(),
         }
     import torch
     from stable_baselines3.common.callbacks import CallbackList
@@ -595,6 +625,8 @@ def train(
         )
         if versions() != config["versions"]:  # the packages the rest was trained with
             config["resumes"][-1]["versions"] = versions()
+        if (code or code_version()) != config.get("code"):  # the code the rest ran
+            config["resumes"][-1]["code"] = code or code_version()
         print(f"resuming {run_dir} from {path} ({done:,} timesteps)", flush=True)
     else:
         done = 0

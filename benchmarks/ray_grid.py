@@ -141,10 +141,10 @@ def training_rates(runs: Path) -> dict[tuple[str, str], float]:
 def episode_seconds(runs: Path, episodes: int) -> dict[str, float]:
     """Seconds per evaluation episode of each learned run under ``runs`` and each scripted
     agent, on validation layouts."""
-    from agents.evaluate import EVAL_SEED_START
     from agents.grid import evaluate_shard, run_files
+    from agents.seed_ranges import held_out_seeds
 
-    seeds = list(range(EVAL_SEED_START, EVAL_SEED_START + episodes))
+    seeds = held_out_seeds("validation", episodes)
     specs = {run_dir.name: (str(run_dir), run_files(run_dir)) for run_dir in sorted(runs.iterdir())}
     specs.update({name: (name, None) for name in SCRIPTED})
     seconds = {}

@@ -14,8 +14,16 @@ import yaml
 pytest.importorskip("stable_baselines3")
 pytest.importorskip("sb3_contrib")
 
-from agents.evaluate import held_out_seeds, summarize, wilson_interval
-from agents.train import TRAIN_LAYOUT_SEEDS, load_hyperparams, train
+from agents.evaluate import summarize, wilson_interval
+from agents.seed_ranges import held_out_seeds
+from agents.train import (
+    ENV_ID,
+    HYPERPARAMS_DIR,
+    TRAIN_LAYOUT_SEEDS,
+    code_version,
+    load_hyperparams,
+    train,
+)
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -65,6 +73,24 @@ def test_the_training_cli_writes_the_model_its_config_and_logs(trained_runs: dic
         assert config["timesteps_done"] >= 256 and config["wall_clock_seconds"] > 0
         assert config["hyperparams"]["n_envs"] == 2
         assert config["train_layout_seeds"] == list(TRAIN_LAYOUT_SEEDS)
+        assert config["code"] == code_version()  # this checkout's commit and dirty flag
+        assert config["code"]["commit"] is None or len(config["code"]["commit"]) == 40
+
+
+def test_the_code_version_is_the_checkouts_commit_and_dirty_flag(tmp_path: Path):
+    def git(*args: str) -> str:
+        return subprocess.run(
+            ["git", "-C", str(tmp_path), *args], capture_output=True, text=True, check=True
+        ).stdout.strip()
+
+    assert code_version(tmp_path) == {"commit": None, "dirty": None}  # not a checkout
+    git("init", "-q")
+    (tmp_path / "recipe.yml").write_text("a: 1\n")
+    git("add", "recipe.yml")
+    git("-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "first")
+    assert code_version(tmp_path) == {"commit": git("rev-parse", "HEAD"), "dirty": False}
+    (tmp_path / "recipe.yml").write_text("a: 2\n")
+    assert code_version(tmp_path)["dirty"] is True
 
 
 def test_the_evaluation_cli_writes_the_table_plots_and_gifs(
@@ -91,15 +117,10 @@ def test_the_evaluation_cli_writes_the_table_plots_and_gifs(
     with (out / "episodes.csv").open() as f:
         rows = list(csv.DictReader(f))
     assert len(rows) == 4 * 2
-    assert {int(r["seed"]) for r in rows} == set(held_out_seeds(2))
+    assert {int(r["seed"]) for r in rows} == set(held_out_seeds("validation", 2))
     for figure in ("success.png", "steps.png", "learning_curves.png"):
         assert (out / figure).stat().st_size > 1000
     assert len(list((out / "gifs").glob("*.gif"))) == 4
-
-
-def test_held_out_seeds_are_never_drawn_in_training():
-    seeds = held_out_seeds(10_000)
-    assert max(seeds) < TRAIN_LAYOUT_SEEDS[0]
 
 
 @pytest.mark.parametrize(
@@ -181,3 +202,34 @@ def test_the_wilson_interval_holds_the_rate_even_at_zero_and_one(n):
     for successes in (0, n):
         low, high = wilson_interval(successes, n)
         assert 0.0 <= low <= successes / n <= high <= 1.0
+
+
+def test_evaluation_builds_the_env_from_the_recipe_without_its_reward_terms(tmp_path: Path):
+    from agents.evaluate import evaluate, make_agent
+
+    recipes = yaml.safe_load((HYPERPARAMS_DIR / "ppo.yml").read_text())
+    recipe = recipes[ENV_ID]["gpis"]
+    recipe["env_kwargs"] = {
+        "map": "gpis",
+        "grid_shape": [36, 72],
+        "jar_count": 3,
+        "reward_approach": 10.0,
+        "reward_tip": 5.0,
+    }
+    path = tmp_path / "ppo.yml"
+    path.write_text(yaml.safe_dump({ENV_ID: {"gpis": recipe}}))
+    run_dir = train(
+        "ppo",
+        "gpis",
+        out=tmp_path / "runs",
+        timesteps=64,
+        n_envs=2,
+        torch_threads=1,
+        hyperparams=path,
+        progress_bar=False,
+    )
+    _, env_kwargs = make_agent(str(run_dir))
+    # The grid and the jars as trained (the model's spaces need the grid), the default reward.
+    assert env_kwargs == {"map": "gpis", "grid_shape": [36, 72], "jar_count": 3}
+    (summary,) = evaluate([str(run_dir)], out=tmp_path / "eval", episodes=1, gifs=False)
+    assert summary.map_mode == "gpis" and summary.episodes == 1

@@ -29,6 +29,7 @@ pytest.importorskip("stable_baselines3")
 from agents import evaluate as evaluate_module
 from agents.evaluate import EPISODE_COLUMNS, evaluate, read_episodes_csv
 from agents.learned import LearnedAgent
+from agents.seed_ranges import VALIDATION
 from agents.train import checkpoints, main, train
 
 REPO = Path(__file__).resolve().parents[1]
@@ -246,7 +247,7 @@ def test_an_interrupted_evaluation_resumes_without_redoing_episodes(tmp_path, mo
 
     monkeypatch.setattr(evaluate_module, "run_episodes", counting)
     again = _evaluate(resumed, agents)
-    first = evaluate_module.EVAL_SEED_START
+    first = VALIDATION[0]
     assert ran == [("oracle", first + 1), ("oracle", first + 2)]
     assert (resumed / "episodes.csv").read_bytes() == (whole / "episodes.csv").read_bytes()
     assert (resumed / "results.md").read_text() == (whole / "results.md").read_text()

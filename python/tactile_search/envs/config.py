@@ -22,6 +22,10 @@ from tactile_search import _core
 SETTINGS: tuple[dict[str, Any], ...] = tuple(_core.EpisodeBatch.settings())
 #: The map modes, as the core names them (``gpis``, ``occupancy``, ``none``).
 MAP_MODES: tuple[str, ...] = next(s["choices"] for s in SETTINGS if s["key"] == "map")
+#: The reward terms' settings (the core names them ``reward_*``).
+REWARD_KEYS: frozenset[str] = frozenset(
+    s["key"] for s in SETTINGS if s["key"].startswith("reward_")
+)
 #: The keys that configure the physical scene (a subset of ``SETTINGS``).
 SCENE_KEYS: frozenset[str] = frozenset(s["key"] for s in _core.Scene.settings())
 
