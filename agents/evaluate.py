@@ -67,6 +67,9 @@ class Summary:
     steps_q1: float
     steps_q3: float
     displacement_mm: float
+    # Mean over the successful episodes alone (NaN without one): measured per episode, not
+    # the episode mean divided by the success rate.
+    success_displacement_mm: float
     max_displacement_mm: float
     tip_rate: float
     iou: float
@@ -114,6 +117,7 @@ def summarize(agent: str, map_mode: str, episodes: Sequence[dict[str, Any]]) -> 
         q1 = median = q3 = float(steps[0])
     else:
         q1 = median = q3 = math.nan
+    succeeded = [e["jar_displacement"] for e in episodes if e["success"]]
     return Summary(
         agent=agent,
         map_mode=map_mode,
@@ -125,6 +129,7 @@ def summarize(agent: str, map_mode: str, episodes: Sequence[dict[str, Any]]) -> 
         steps_q1=q1,
         steps_q3=q3,
         displacement_mm=1000 * statistics.fmean(e["jar_displacement"] for e in episodes),
+        success_displacement_mm=1000 * statistics.fmean(succeeded) if succeeded else math.nan,
         max_displacement_mm=1000 * statistics.fmean(e["max_jar_displacement"] for e in episodes),
         tip_rate=statistics.fmean(e["tips"] > 0 for e in episodes),
         iou=statistics.fmean(e["iou"] for e in episodes),
@@ -135,9 +140,10 @@ def markdown_table(summaries: Sequence[Summary]) -> str:
     """The results as a markdown table."""
     lines = [
         "| agent | map | episodes | success | 95 % CI | steps to success, median [Q1, Q3] "
-        "| jar displacement (mm, sum over jars) | largest jar displacement (mm) "
-        "| episodes with a tip | final map IoU |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "| jar displacement (mm, sum over jars) | in successful episodes (mm) "
+        "| largest jar displacement (mm) | episodes with a tip "
+        "| final map IoU (the map's own reading) |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for s in summaries:
         steps = (
@@ -146,10 +152,14 @@ def markdown_table(summaries: Sequence[Summary]) -> str:
             else f"{s.steps_median:.0f} [{s.steps_q1:.0f}, {s.steps_q3:.0f}]"
         )
         iou = "-" if s.map_mode == "none" else f"{s.iou:.3f}"
+        in_successes = (
+            "-" if math.isnan(s.success_displacement_mm) else f"{s.success_displacement_mm:.1f}"
+        )
         lines.append(
             f"| {s.agent} | {s.map_mode} | {s.episodes} | {s.success_rate:.1%} "
             f"| [{s.success_low:.1%}, {s.success_high:.1%}] | {steps} "
-            f"| {s.displacement_mm:.1f} | {s.max_displacement_mm:.1f} | {s.tip_rate:.1%} "
+            f"| {s.displacement_mm:.1f} | {in_successes} | {s.max_displacement_mm:.1f} "
+            f"| {s.tip_rate:.1%} "
             f"| {iou} |"
         )
     return "\n".join(lines) + "\n"

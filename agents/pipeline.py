@@ -116,11 +116,58 @@ def train_all(grid: list[TrainingTrial], progress_bar: bool) -> list[Path]:
     return [train_trial(trial, progress_bar) for trial in grid]
 
 
+def machines_text(configs: list[dict]) -> str:
+    """The machines the runs trained on, as their configs record them."""
+    seen = []
+    for config in configs:
+        record = config.get("machine") or {}
+        gpu = record.get("gpu")
+        text = (
+            f"{record.get('cpus', '?')} CPU cores ({record.get('processor') or 'unknown CPU'}), "
+            + (f"GPU {gpu}" if gpu else "no GPU")
+            if record
+            else "an unrecorded machine"
+        )
+        if text not in seen:
+            seen.append(text)
+    return "; ".join(seen)
+
+
+def commits_text(configs: list[dict]) -> str:
+    """The git commits the runs trained with, and whether any tree was dirty."""
+    seen = []
+    for config in configs:
+        code = config.get("code") or {}
+        commit = code.get("commit")
+        text = (
+            f"`{commit[:12]}`{' (with uncommitted changes)' if code.get('dirty') else ''}"
+            if commit
+            else "of an unrecorded version"
+        )
+        if text not in seen:
+            seen.append(text)
+    return ", ".join(seen)
+
+
+def ranges_text(configs: list[dict]) -> str:
+    """The training layout ranges the runs drew from."""
+    texts = []
+    for config in configs:
+        bounds = config.get("train_layout_seeds")
+        text = f"[{bounds[0]:,}, {bounds[1]:,})" if bounds else "an unrecorded range"
+        if text not in texts:
+            texts.append(text)
+    return ", ".join(texts)
+
+
 def results_markdown(budget_name: str, budget: Budget, run_dirs: list[Path], table: str) -> str:
-    """``RESULTS.md``: the commands, budgets, seeds and the table."""
+    """``RESULTS.md``: the commands, budgets, seeds and the table; the machines, code
+    versions and seed ranges are read from the runs' ``config.yml``."""
+    configs = [yaml.safe_load((run_dir / "config.yml").read_text()) for run_dir in run_dirs]
     lines = [
-        f"Produced by `make results` (`python -m agents.pipeline --budget {budget_name}`) on a",
-        "2-core CPU machine without a GPU. Figures and per-episode rows are in",
+        f"Produced by `make results` (`python -m agents.pipeline --budget {budget_name}`), "
+        f"training on {machines_text(configs)}, code {commits_text(configs)}. "
+        "Figures and per-episode rows are in",
         f"[`{budget.results.name}/`]({budget.results.name}/); each run's config and training log",
         f"in `{budget.results.name}/training/`.",
         "",
@@ -129,8 +176,7 @@ def results_markdown(budget_name: str, budget: Budget, run_dirs: list[Path], tab
         "| agent | timesteps | training wall-clock (min) | training seed | recipe |",
         "|---|---|---|---|---|",
     ]
-    for run_dir in run_dirs:
-        config = yaml.safe_load((run_dir / "config.yml").read_text())
+    for config in configs:
         algo, map_mode = config["algo"], config["map"]
         recipe = config["hyperparams"]
         lines.append(
@@ -142,7 +188,7 @@ def results_markdown(budget_name: str, budget: Budget, run_dirs: list[Path], tab
     seeds = held_out_seeds(budget.split, budget.episodes)
     lines += [
         "",
-        f"Training draws layout seeds from [2^32, 2^63); evaluation uses the held-out "
+        f"Training draws layout seeds from {ranges_text(configs)}; evaluation uses the held-out "
         f"{budget.split} layouts {seeds[0]}..{seeds[-1]} (`agents/seed_ranges.py`), the same for "
         "every agent,",
         "with the environment's default reward (no shaping). Scripted agents run with the GPIS",

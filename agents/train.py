@@ -147,6 +147,18 @@ def versions() -> dict[str, str]:
     }
 
 
+def machine() -> dict[str, Any]:
+    """The machine a run trained on, as ``config.yml`` records it."""
+    import torch
+
+    return {
+        "cpus": os.cpu_count(),
+        "processor": platform.processor() or platform.machine(),
+        "system": platform.platform(),
+        "gpu": torch.cuda.get_device_name(0) if torch.cuda.is_available() else None,
+    }
+
+
 def code_version(repo: Path | None = None) -> dict[str, Any]:
     """The code that produced a run: the git commit of ``repo`` (default: the checkout this
     ``agents`` package sits in) and whether its tree differed from the commit (``dirty``:
@@ -578,6 +590,7 @@ def train(
             "hyperparams": recipe,
             "versions": versions(),
             "code": code or code_version(),
+            "machine": machine(),
         }
     import torch
     from stable_baselines3.common.callbacks import CallbackList

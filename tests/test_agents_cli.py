@@ -233,3 +233,31 @@ def test_evaluation_builds_the_env_from_the_recipe_without_its_reward_terms(tmp_
     assert env_kwargs == {"map": "gpis", "grid_shape": [36, 72], "jar_count": 3}
     (summary,) = evaluate([str(run_dir)], out=tmp_path / "eval", episodes=1, gifs=False)
     assert summary.map_mode == "gpis" and summary.episodes == 1
+
+
+def test_the_results_page_takes_machines_code_and_seeds_from_the_run_configs(tmp_path: Path):
+    from agents.pipeline import BUDGETS, results_markdown
+
+    run_dirs = []
+    for seed, dirty in ((0, False), (1, True)):
+        run_dir = tmp_path / f"ppo_gpis_seed{seed}"
+        run_dir.mkdir()
+        config = {
+            "algo": "ppo",
+            "map": "gpis",
+            "seed": seed,
+            "timesteps_done": 1000,
+            "wall_clock_seconds": 60.0,
+            "train_layout_seeds": [2**32, 2**63],
+            "hyperparams": {"n_envs": 16, "env_kwargs": {"map": "gpis"}},
+            "code": {"commit": "0123456789abcdef" * 2 + "01234567", "dirty": dirty},
+            "machine": {"cpus": 96, "processor": "a test CPU", "system": "x", "gpu": None},
+        }
+        (run_dir / "config.yml").write_text(yaml.safe_dump(config))
+        run_dirs.append(run_dir)
+    page = results_markdown("full", BUDGETS["full"], run_dirs, "| table |\n")
+    assert "96 CPU cores (a test CPU), no GPU" in page
+    assert "`0123456789ab`, `0123456789ab` (with uncommitted changes)" in page
+    assert "[4,294,967,296, 9,223,372,036,854,775,808)" in page
+    assert "test layouts 2000000..2000199" in page
+    assert "2-core" not in page  # nothing about the machine is a fixed string

@@ -263,8 +263,9 @@ class EpisodeSettings(SceneSettings, total=False):
     reward_step_cost: float
     """Paid (negated) every step. Default 0.01. Range [0, inf)."""
     reward_displacement: float
-    """Per metre of added jar displacement (summed over jars), negated. Default 10.0. Range [0,
-    inf).
+    """Per metre the jars' summed planar displacement from their start grows in a step, negated
+    (a step that moves jars back towards their start costs nothing and earns nothing back).
+    Default 10.0. Range [0, inf).
     """
     reward_tip: float
     """Paid (negated) when a jar tips over. A tip ends the episode, so it must cost more than the
@@ -272,8 +273,10 @@ class EpisodeSettings(SceneSettings, total=False):
     jar over early is the cheapest way out of a hard layout. Default 3.0. Range [0, inf).
     """
     reward_approach: float
-    """Potential-based shaping, per metre the fingertip's path distance to the target shrinks; 0
-    leaves the task's reward alone. Default 0.0. Range [0, inf).
+    """Shaping, per metre the fingertip's path distance to the target shrinks in a step: over an
+    episode it adds reward_approach times (start distance - final distance), so it also pays
+    for ending nearer the target and, with discounting, for getting nearer sooner (not policy-
+    invariant). 0 leaves the task's reward alone. Default 0.0. Range [0, inf).
     """
 
 # --- end of generated ---

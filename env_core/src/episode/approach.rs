@@ -9,11 +9,19 @@
 //! fingertip before it enters the opening) add their straight distance to the nearest point
 //! of the grid.
 //!
-//! The shaping term `w · (d_{t−1} − d_t)` is a difference of potentials (Ng, Harada and
-//! Russell, 1999): over an episode it sums to `w · (d_0 − d_T)`, so whatever the path, it
-//! only pays for how much closer the finger ended up; it tells a learner early which way is
-//! closer. (With episodes ending anywhere it is not exactly policy-invariant: it also
-//! rewards ending nearer the target, which is what a search should do anyway.)
+//! The shaping term `w · (d_{t−1} − d_t)` is a difference of potentials `Φ = −w·d` (Ng,
+//! Harada and Russell, 1999), without their two conditions for leaving the optimal
+//! policies unchanged:
+//! - the final potential is not zero: undiscounted, the terms of an episode sum to
+//!   `w · (d_0 − d_T)`, so the shaped return is the task's return plus a bonus for how much
+//!   nearer the finger ended, and a policy that ends nearer the target (a time-out beside
+//!   it, rather than at the opening) is preferred over one with the same task return;
+//! - it is not discounted with the learner's γ (`γ·Φ(s') − Φ(s)`): under discounting
+//!   (γ = 0.99 in the recipes) approach made early is worth more than the same approach late.
+//!
+//! What holds: `d_0` is fixed by the layout, and a touch ends the episode with the fingertip
+//! at the target (`d_T` ≈ 0), so among successful episodes the undiscounted bonus is the
+//! same whatever the path; the shaping tells a learner early which way is closer.
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;

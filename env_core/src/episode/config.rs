@@ -80,14 +80,18 @@ settings! {
         success: f64 = 1.0 => "reward_success" in Range::NON_NEGATIVE,
         /// Paid (negated) every step.
         step_cost: f64 = 0.01 => "reward_step_cost" in Range::NON_NEGATIVE,
-        /// Per metre of added jar displacement (summed over jars), negated.
+        /// Per metre the jars' summed planar displacement from their start grows in a step,
+        /// negated (a step that moves jars back towards their start costs nothing and earns
+        /// nothing back).
         displacement: f64 = 10.0 => "reward_displacement" in Range::NON_NEGATIVE,
         /// Paid (negated) when a jar tips over. A tip ends the episode, so it must cost more
         /// than the step costs it saves (max_steps times reward_step_cost = 2 at the
         /// defaults), or knocking a jar over early is the cheapest way out of a hard layout.
         tip: f64 = 3.0 => "reward_tip" in Range::NON_NEGATIVE,
-        /// Potential-based shaping, per metre the fingertip's path distance to the target
-        /// shrinks; 0 leaves the task's reward alone.
+        /// Shaping, per metre the fingertip's path distance to the target shrinks in a step:
+        /// over an episode it adds reward_approach times (start distance - final distance),
+        /// so it also pays for ending nearer the target and, with discounting, for getting
+        /// nearer sooner (not policy-invariant). 0 leaves the task's reward alone.
         approach: f64 = 0.0 => "reward_approach" in Range::NON_NEGATIVE,
     }
     sections {}

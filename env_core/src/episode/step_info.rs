@@ -14,12 +14,13 @@ pub struct StepInfo {
     pub reward_success: f64,
     /// `−reward.step_cost`.
     pub reward_step: f64,
-    /// `−reward.displacement ·` the jar displacement added this step (m, summed over jars).
+    /// `−reward.displacement · max(0, D_t − D_{t−1})`, `D` the jars' summed planar
+    /// displacement from their start (m).
     pub reward_displacement: f64,
     /// `−reward.tip` when a jar tipped over this step, else 0.
     pub reward_tip: f64,
     /// `reward.approach ·` how much the fingertip's path distance to the target shrank
-    /// this step (potential-based shaping; 0 at the default weight).
+    /// this step (a difference of potentials, see `approach`; 0 at the default weight).
     pub reward_approach: f64,
     /// The episode ended (success or a tipped jar).
     pub terminated: bool,

@@ -80,13 +80,18 @@ class CupboardSearchEnv(gym.Env, EzPickle):
 
     - ``r_success = reward_success`` when the finger touches the target, else 0;
     - ``r_step = -reward_step_cost``;
-    - ``r_displacement = -reward_displacement * (D_t - D_{t-1})`` with ``D_t`` the planar
-      displacement of all jars since reset (m), summed;
+    - ``r_displacement = -reward_displacement * max(0, D_t - D_{t-1})`` with ``D_t`` the
+      planar displacement of all jars from where they stood at reset (m), summed: moving
+      jars back towards their start earns nothing back;
     - ``r_tip = -reward_tip`` when a jar tips over (leans more than ``tip_angle``);
-    - ``r_approach = reward_approach * (d_{t-1} - d_t)``, potential-based shaping with
-      ``d_t = info["target_distance"]``, the fingertip's path distance to the target around
-      the other jars (m). Off by default (``reward_approach = 0``); the training recipes in
-      ``agents/hyperparams`` turn it on. It does not change which policies are optimal.
+    - ``r_approach = reward_approach * (d_{t-1} - d_t)``, shaping by a difference of
+      potentials with ``d_t = info["target_distance"]``, the fingertip's path distance to the
+      target around the other jars (m). Off by default (``reward_approach = 0``); the
+      training recipes in ``agents/hyperparams`` turn it on. It can change which policies
+      are optimal: undiscounted, an episode's terms sum to ``reward_approach * (d_0 - d_T)``,
+      a bonus for ending nearer the target (the final potential is not zero), and under a
+      learner's discounting approach made early is worth more. Among successful episodes
+      (``d_T`` near 0 at the touch) the undiscounted bonus is the same whatever the path.
 
     ## Starting State
     A new seeded layout, the depth camera's first look (a noisy horizontal slice at mid-jar

@@ -1,0 +1,332 @@
+"""Map encoders for the Dict observation (``"map"`` image, ``"proprio"`` vector) as SB3
+features extractors that keep where things are on the map.
+
+SB3's ``MultiInputPolicy`` runs ``NatureCNN`` (8x8 stride 4, 4x4 stride 2, 3x3 convs) on the
+map, which squeezes the 40x80 GPIS map to a 1x6 grid. The extractors here keep a grid:
+
+* ``ImpalaMapExtractor``: the IMPALA residual CNN (Espeholt et al. 2018), 40x80 -> 5x10
+  after its three default stages, flattened and projected to ``map_features``.
+* ``SpatialSoftmaxMapExtractor``: 3x3 convs (strides 1, 2, 1: 40x80 -> 20x40), then a
+  spatial softmax per channel giving its expected (x, y) in [-1, 1] (Levine et al. 2016)
+  and a global average pool.
+
+Every key other than ``map_key`` (``"proprio"``) is flattened and concatenated after the map
+features, by default unchanged (``proprio_features=0``), or through Linear + ReLU. Without a
+map (``map="none"``) both reduce to the proprio features alone, so every map mode trains
+the same policy class::
+
+    from stable_baselines3 import PPO
+    from agents.encoders import ImpalaMapExtractor
+
+    model = PPO(
+        "MultiInputPolicy",
+        env,
+        policy_kwargs={
+            "features_extractor_class": ImpalaMapExtractor,
+            "features_extractor_kwargs": {"channels": (16, 32, 32), "map_features": 256},
+        },
+    )
+
+The map arrives as SB3's ``preprocess_obs`` leaves it: a uint8 Box with bounds [0, 255] is
+an image to SB3 (``is_image_space`` skips the channel-count check by default, so the
+2-channel map qualifies) and is scaled to [0, 1] unless the policy has
+``normalize_images=False``. Saved models pickle the class reference
+``agents.encoders.<Class>``: they load wherever this repository's ``agents`` is importable.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import gymnasium as gym
+import torch as th
+from gymnasium import spaces
+from stable_baselines3.common.preprocessing import get_flattened_obs_dim
+from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
+from torch import nn
+
+__all__ = [
+    "ImpalaMapExtractor",
+    "MapExtractor",
+    "SpatialSoftmaxMapExtractor",
+    "map_feature_shape",
+]
+
+
+def _positive_int(name: str, value: Any) -> int:
+    """``value`` as an int, checked positive (``bool`` is not accepted as an int)."""
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise TypeError(f"{name} must be a positive int, got {type(value).__name__} {value!r}")
+    if value < 1:
+        raise ValueError(f"{name} must be a positive int, got {value!r}")
+    return value
+
+
+def _non_negative_int(name: str, value: Any) -> int:
+    """``value`` as an int, checked >= 0."""
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise TypeError(f"{name} must be an int >= 0, got {type(value).__name__} {value!r}")
+    if value < 0:
+        raise ValueError(f"{name} must be an int >= 0, got {value!r}")
+    return value
+
+
+def _positive_ints(name: str, values: Any) -> tuple[int, ...]:
+    """``values`` (a non-empty sequence of positive ints, e.g. a YAML list) as a tuple."""
+    if isinstance(values, (str, bytes)) or not isinstance(values, Sequence):
+        raise TypeError(
+            f"{name} must be a non-empty sequence of positive ints, "
+            f"got {type(values).__name__} {values!r}"
+        )
+    if len(values) == 0:
+        raise ValueError(f"{name} must be a non-empty sequence of positive ints, got {values!r}")
+    return tuple(_positive_int(f"{name}[{i}]", v) for i, v in enumerate(values))
+
+
+class MapExtractor(BaseFeaturesExtractor):
+    """The shared part of the map extractors: splits the Dict observation into the map
+    (``map_key``, a 3-D ``(C, H, W)`` Box, optional) and the other keys (flattened,
+    concatenated in the space's key order, then unchanged or through Linear + ReLU to
+    ``proprio_features``). Subclasses build ``self.map_net`` (the map's conv trunk, whose
+    output grid ``map_feature_shape`` reports) and ``self.map_head`` (the trunk's output to
+    a flat vector) with ``_build_map``, returning the head's output size.
+
+    ``features_dim`` = map features + proprio features (the proprio size itself with
+    ``proprio_features=0``).
+    """
+
+    def __init__(
+        self,
+        observation_space: gym.Space,
+        proprio_features: int = 0,
+        map_key: str = "map",
+    ) -> None:
+        if not isinstance(observation_space, spaces.Dict):
+            raise TypeError(
+                f"{type(self).__name__} needs a gymnasium.spaces.Dict observation space, "
+                f"got {type(observation_space).__name__} {observation_space!r}"
+            )
+        if not isinstance(map_key, str):
+            raise TypeError(f"map_key must be a str, got {type(map_key).__name__} {map_key!r}")
+        proprio_features = _non_negative_int("proprio_features", proprio_features)
+        # BaseFeaturesExtractor asserts features_dim > 0; the real value is set below (as
+        # SB3's CombinedExtractor does).
+        super().__init__(observation_space, features_dim=1)
+        self.map_key = map_key
+        self.vector_keys = tuple(k for k in observation_space.spaces if k != map_key)
+        map_space = observation_space.spaces.get(map_key)
+        if map_space is None and not self.vector_keys:
+            raise ValueError(f"observation space has no keys to encode: {observation_space!r}")
+        self.has_map = map_space is not None
+        self.map_net: nn.Module | None = None
+        self.map_head: nn.Module | None = None
+        map_dim = 0
+        if map_space is not None:
+            if not isinstance(map_space, spaces.Box) or len(map_space.shape) != 3:
+                raise ValueError(
+                    f"observation space {map_key!r} must be a Box of shape (C, H, W), "
+                    f"got {map_space!r}"
+                )
+            self.map_shape: tuple[int, int, int] = tuple(int(n) for n in map_space.shape)
+            map_dim = self._build_map(self.map_shape)
+        vector_dim = sum(get_flattened_obs_dim(observation_space[k]) for k in self.vector_keys)
+        if proprio_features and vector_dim:
+            self.proprio_net: nn.Module = nn.Sequential(
+                nn.Linear(vector_dim, proprio_features), nn.ReLU()
+            )
+            vector_dim = proprio_features
+        else:
+            self.proprio_net = nn.Identity()
+        self._features_dim = map_dim + vector_dim
+
+    def _build_map(self, shape: tuple[int, int, int]) -> int:
+        """Builds ``self.map_net`` and ``self.map_head`` for maps of ``shape``; returns the
+        number of map features."""
+        raise NotImplementedError
+
+    def map_feature_shape(self) -> tuple[int, int, int] | None:
+        """``(C, h, w)`` of the map trunk's output (the grid the map features keep), or None
+        without a map."""
+        if self.map_net is None:
+            return None
+        param = next(self.map_net.parameters())
+        with th.no_grad():
+            out = self.map_net(th.zeros((1, *self.map_shape), dtype=param.dtype))
+        return tuple(int(n) for n in out.shape[1:])
+
+    def forward(self, observations: dict[str, th.Tensor]) -> th.Tensor:
+        parts = []
+        if self.map_net is not None and self.map_head is not None:
+            parts.append(self.map_head(self.map_net(observations[self.map_key].float())))
+        if self.vector_keys:
+            vector = th.cat(
+                [observations[k].flatten(start_dim=1).float() for k in self.vector_keys], dim=1
+            )
+            parts.append(self.proprio_net(vector))
+        return parts[0] if len(parts) == 1 else th.cat(parts, dim=1)
+
+
+class ResidualBlock(nn.Module):
+    """IMPALA's residual block: ``x + conv(relu(conv(relu(x))))``, 3x3 convs, same size."""
+
+    def __init__(self, channels: int) -> None:
+        super().__init__()
+        self.conv0 = nn.Conv2d(channels, channels, kernel_size=3, padding=1)
+        self.conv1 = nn.Conv2d(channels, channels, kernel_size=3, padding=1)
+
+    def forward(self, x: th.Tensor) -> th.Tensor:
+        return x + self.conv1(th.relu(self.conv0(th.relu(x))))
+
+
+class ImpalaStage(nn.Sequential):
+    """One IMPALA stage: 3x3 conv to ``out_channels``, 3x3 max-pool stride 2 (padding 1:
+    H -> ceil(H / 2)), then ``res_blocks`` residual blocks."""
+
+    def __init__(self, in_channels: int, out_channels: int, res_blocks: int = 2) -> None:
+        super().__init__(
+            nn.Conv2d(in_channels, out_channels, kernel_size=3, padding=1),
+            nn.MaxPool2d(kernel_size=3, stride=2, padding=1),
+            *(ResidualBlock(out_channels) for _ in range(res_blocks)),
+        )
+
+
+class ImpalaMapExtractor(MapExtractor):
+    """IMPALA-style residual CNN on the map (Espeholt et al. 2018), keeping a spatial grid.
+
+    Per entry of ``channels`` a stage (3x3 conv, 3x3 max-pool stride 2, ``res_blocks``
+    residual blocks of ReLU-conv-ReLU-conv), halving height and width (rounding up): the
+    default three stages turn a 40x80 map into a 5x10 grid of ``channels[-1]`` features.
+    Then ReLU, flatten, Linear to ``map_features`` and ReLU. The proprio part is described
+    in ``MapExtractor``: ``features_dim`` = ``map_features`` + proprio size (256 + 11 for
+    the default env), or the proprio size alone without a map.
+    """
+
+    def __init__(
+        self,
+        observation_space: gym.Space,
+        channels: Sequence[int] = (16, 32, 32),
+        map_features: int = 256,
+        res_blocks: int = 2,
+        proprio_features: int = 0,
+        map_key: str = "map",
+    ) -> None:
+        self.channels = _positive_ints("channels", channels)
+        self.map_features = _positive_int("map_features", map_features)
+        self.res_blocks = _non_negative_int("res_blocks", res_blocks)
+        super().__init__(observation_space, proprio_features=proprio_features, map_key=map_key)
+
+    def _build_map(self, shape: tuple[int, int, int]) -> int:
+        stages = []
+        in_channels = shape[0]
+        for out_channels in self.channels:
+            stages.append(ImpalaStage(in_channels, out_channels, self.res_blocks))
+            in_channels = out_channels
+        self.map_net = nn.Sequential(*stages, nn.ReLU())
+        c, h, w = self.map_feature_shape() or (0, 0, 0)
+        self.map_head = nn.Sequential(
+            nn.Flatten(), nn.Linear(c * h * w, self.map_features), nn.ReLU()
+        )
+        return self.map_features
+
+
+class SpatialSoftmax(nn.Module):
+    """Per channel, the softmax over the grid of ``x / temperature`` and the expected
+    ``(x, y)`` under it, in [-1, 1] (left/top = -1): ``(B, C, H, W) -> (B, 2 C)`` as
+    ``[x_0, y_0, x_1, y_1, ...]``. The temperature is learned (from 1) if ``learn_temperature``.
+    """
+
+    def __init__(self, height: int, width: int, learn_temperature: bool = True) -> None:
+        super().__init__()
+        ys, xs = th.meshgrid(
+            th.linspace(-1.0, 1.0, height), th.linspace(-1.0, 1.0, width), indexing="ij"
+        )
+        # (H W, 2): each grid cell's (x, y).
+        self.register_buffer("coords", th.stack([xs.reshape(-1), ys.reshape(-1)], dim=1))
+        log_temperature = th.zeros(())
+        if learn_temperature:
+            self.log_temperature = nn.Parameter(log_temperature)
+        else:
+            self.register_buffer("log_temperature", log_temperature)
+
+    def forward(self, x: th.Tensor) -> th.Tensor:
+        b, c = x.shape[:2]
+        logits = x.reshape(b, c, -1) * th.exp(-self.log_temperature)
+        weights = th.softmax(logits, dim=-1)  # (B, C, H W)
+        return (weights @ self.coords).reshape(b, 2 * c)
+
+
+class SpatialSoftmaxHead(nn.Module):
+    """The spatial-softmax keypoints (``2 C``) of the last conv's output (its logits, before
+    the ReLU that would flatten every negative response to the same weight), then the global
+    average of its ReLU (``C``): ``(B, C, h, w) -> (B, 3 C)``."""
+
+    def __init__(self, height: int, width: int, learn_temperature: bool = True) -> None:
+        super().__init__()
+        self.spatial_softmax = SpatialSoftmax(height, width, learn_temperature)
+
+    def forward(self, x: th.Tensor) -> th.Tensor:
+        return th.cat([self.spatial_softmax(x), th.relu(x).mean(dim=(2, 3))], dim=1)
+
+
+class SpatialSoftmaxMapExtractor(MapExtractor):
+    """Convs that keep most of the resolution, then where each channel responds (spatial
+    softmax, Levine et al. 2016) and how much (global average pool).
+
+    3x3 convs (padding 1) with ``channels`` and ``strides`` (default (16, 32, 32) and
+    (1, 2, 1): 40x80 -> 40x80 -> 20x40 -> 20x40), ReLU between them; on the last conv's
+    output a spatial softmax per channel gives its expected (x, y) in [-1, 1] (with a learned
+    temperature unless ``learn_temperature=False``), and a global average pool of its ReLU
+    one more number per channel. ``features_dim`` = 3 ``channels[-1]`` + proprio size (96 +
+    11 for the default env), or the proprio size alone without a map.
+    """
+
+    def __init__(
+        self,
+        observation_space: gym.Space,
+        channels: Sequence[int] = (16, 32, 32),
+        strides: Sequence[int] = (1, 2, 1),
+        learn_temperature: bool = True,
+        proprio_features: int = 0,
+        map_key: str = "map",
+    ) -> None:
+        self.channels = _positive_ints("channels", channels)
+        self.strides = _positive_ints("strides", strides)
+        if len(self.strides) != len(self.channels):
+            raise ValueError(
+                f"strides must have one entry per conv, like channels {self.channels}: "
+                f"got {self.strides}"
+            )
+        if not isinstance(learn_temperature, bool):
+            raise TypeError(
+                f"learn_temperature must be a bool, got {type(learn_temperature).__name__}"
+            )
+        self.learn_temperature = learn_temperature
+        super().__init__(observation_space, proprio_features=proprio_features, map_key=map_key)
+
+    def _build_map(self, shape: tuple[int, int, int]) -> int:
+        layers: list[nn.Module] = []
+        in_channels = shape[0]
+        for i, (out_channels, stride) in enumerate(zip(self.channels, self.strides, strict=True)):
+            if i:
+                layers.append(nn.ReLU())
+            layers.append(
+                nn.Conv2d(in_channels, out_channels, kernel_size=3, stride=stride, padding=1)
+            )
+            in_channels = out_channels
+        self.map_net = nn.Sequential(*layers)
+        c, h, w = self.map_feature_shape() or (0, 0, 0)
+        self.map_head = SpatialSoftmaxHead(h, w, self.learn_temperature)
+        return 3 * c
+
+
+def map_feature_shape(extractor: Any) -> tuple[int, int, int] | None:
+    """``(C, h, w)`` of the map features of ``extractor`` (a ``MapExtractor``, e.g. a
+    model's ``policy.features_extractor``) for the observation space it was built for: the
+    grid its map encoding keeps. None if that space has no map."""
+    if not isinstance(extractor, MapExtractor):
+        raise TypeError(
+            "map_feature_shape needs a MapExtractor (ImpalaMapExtractor or "
+            f"SpatialSoftmaxMapExtractor), got {type(extractor).__name__}"
+        )
+    return extractor.map_feature_shape()
