@@ -94,6 +94,14 @@ class MapExtractor(BaseFeaturesExtractor):
 
     ``features_dim`` = map features + proprio features (the proprio size itself with
     ``proprio_features=0``).
+
+    Args:
+        observation_space: the env's ``Dict`` space (with or without ``map_key``).
+        proprio_features: 0 (the other keys as they are) or the width of a Linear + ReLU.
+        map_key: the key of the map image.
+        channels_last: run the convs on a channels-last (NHWC) copy of the map; on CPU
+            (oneDNN) this measured ~1.3-1.8x faster for these small-channel convs, with the
+            same features up to float rounding.
     """
 
     def __init__(
@@ -101,6 +109,7 @@ class MapExtractor(BaseFeaturesExtractor):
         observation_space: gym.Space,
         proprio_features: int = 0,
         map_key: str = "map",
+        channels_last: bool = True,
     ) -> None:
         if not isinstance(observation_space, spaces.Dict):
             raise TypeError(
@@ -110,10 +119,13 @@ class MapExtractor(BaseFeaturesExtractor):
         if not isinstance(map_key, str):
             raise TypeError(f"map_key must be a str, got {type(map_key).__name__} {map_key!r}")
         proprio_features = _non_negative_int("proprio_features", proprio_features)
+        if not isinstance(channels_last, bool):
+            raise TypeError(f"channels_last must be a bool, got {type(channels_last).__name__}")
         # BaseFeaturesExtractor asserts features_dim > 0; the real value is set below (as
         # SB3's CombinedExtractor does).
         super().__init__(observation_space, features_dim=1)
         self.map_key = map_key
+        self.channels_last = channels_last
         self.vector_keys = tuple(k for k in observation_space.spaces if k != map_key)
         map_space = observation_space.spaces.get(map_key)
         if map_space is None and not self.vector_keys:
@@ -152,13 +164,17 @@ class MapExtractor(BaseFeaturesExtractor):
             return None
         param = next(self.map_net.parameters())
         with th.no_grad():
-            out = self.map_net(th.zeros((1, *self.map_shape), dtype=param.dtype))
+            zeros = th.zeros((1, *self.map_shape), dtype=param.dtype, device=param.device)
+            out = self.map_net(zeros)
         return tuple(int(n) for n in out.shape[1:])
 
     def forward(self, observations: dict[str, th.Tensor]) -> th.Tensor:
         parts = []
         if self.map_net is not None and self.map_head is not None:
-            parts.append(self.map_head(self.map_net(observations[self.map_key].float())))
+            image = observations[self.map_key].float()
+            if self.channels_last:
+                image = image.contiguous(memory_format=th.channels_last)
+            parts.append(self.map_head(self.map_net(image)))
         if self.vector_keys:
             vector = th.cat(
                 [observations[k].flatten(start_dim=1).float() for k in self.vector_keys], dim=1
@@ -200,6 +216,10 @@ class ImpalaMapExtractor(MapExtractor):
     Then ReLU, flatten, Linear to ``map_features`` and ReLU. The proprio part is described
     in ``MapExtractor``: ``features_dim`` = ``map_features`` + proprio size (256 + 11 for
     the default env), or the proprio size alone without a map.
+
+    Cost: the defaults take ~23 M multiply-adds per 40x80 map (NatureCNN: ~1.8 M), mostly in
+    the residual blocks at 20x40 and 10x20; ``res_blocks=0`` cuts that to ~7 M, and
+    ``channels=(8, 16, 16), res_blocks=1`` to ~4 M, with the same 5x10 grid.
     """
 
     def __init__(
@@ -210,11 +230,17 @@ class ImpalaMapExtractor(MapExtractor):
         res_blocks: int = 2,
         proprio_features: int = 0,
         map_key: str = "map",
+        channels_last: bool = True,
     ) -> None:
         self.channels = _positive_ints("channels", channels)
         self.map_features = _positive_int("map_features", map_features)
         self.res_blocks = _non_negative_int("res_blocks", res_blocks)
-        super().__init__(observation_space, proprio_features=proprio_features, map_key=map_key)
+        super().__init__(
+            observation_space,
+            proprio_features=proprio_features,
+            map_key=map_key,
+            channels_last=channels_last,
+        )
 
     def _build_map(self, shape: tuple[int, int, int]) -> int:
         stages = []
@@ -279,6 +305,9 @@ class SpatialSoftmaxMapExtractor(MapExtractor):
     temperature unless ``learn_temperature=False``), and a global average pool of its ReLU
     one more number per channel. ``features_dim`` = 3 ``channels[-1]`` + proprio size (96 +
     11 for the default env), or the proprio size alone without a map.
+
+    Cost: the defaults take ~12 M multiply-adds per 40x80 map (NatureCNN: ~1.8 M), mostly the
+    last conv at 20x40; ``strides=(2, 2, 1)`` (a 10x20 grid) cuts that to ~3 M.
     """
 
     def __init__(
@@ -289,6 +318,7 @@ class SpatialSoftmaxMapExtractor(MapExtractor):
         learn_temperature: bool = True,
         proprio_features: int = 0,
         map_key: str = "map",
+        channels_last: bool = True,
     ) -> None:
         self.channels = _positive_ints("channels", channels)
         self.strides = _positive_ints("strides", strides)
@@ -302,7 +332,12 @@ class SpatialSoftmaxMapExtractor(MapExtractor):
                 f"learn_temperature must be a bool, got {type(learn_temperature).__name__}"
             )
         self.learn_temperature = learn_temperature
-        super().__init__(observation_space, proprio_features=proprio_features, map_key=map_key)
+        super().__init__(
+            observation_space,
+            proprio_features=proprio_features,
+            map_key=map_key,
+            channels_last=channels_last,
+        )
 
     def _build_map(self, shape: tuple[int, int, int]) -> int:
         layers: list[nn.Module] = []

@@ -25,6 +25,7 @@ import contextlib
 import copy
 import csv
 import datetime
+import importlib
 import os
 import platform
 import re
@@ -126,6 +127,32 @@ def make_training_env(
         **env_kwargs,
     )
     return VecMonitor(venv, info_keywords=("success", "tips", "jar_displacement", "iou"))
+
+
+# A recipe names classes in its policy_kwargs by dotted path (YAML holds no classes).
+CLASS_KEYS = ("features_extractor_class",)
+
+
+def algorithm_kwargs(recipe: dict[str, Any]) -> dict[str, Any]:
+    """The recipe's arguments for the SB3 algorithm: every key but ``RUN_KEYS``, with the
+    classes that ``policy_kwargs`` names by dotted path (``features_extractor_class:
+    agents.encoders.ImpalaMapExtractor``) imported."""
+    kwargs = {key: value for key, value in recipe.items() if key not in RUN_KEYS}
+    policy_kwargs = dict(kwargs.get("policy_kwargs") or {})
+    for key in CLASS_KEYS:
+        name = policy_kwargs.get(key)
+        if isinstance(name, str):
+            module, _, attribute = name.rpartition(".")
+            try:
+                policy_kwargs[key] = getattr(importlib.import_module(module), attribute)
+            except (ImportError, AttributeError, ValueError) as err:
+                raise ValueError(
+                    f"policy_kwargs.{key} must name an importable class as module.Class, "
+                    f"got {name!r} ({type(err).__name__}: {err})"
+                ) from err
+    if policy_kwargs:
+        kwargs["policy_kwargs"] = policy_kwargs
+    return kwargs
 
 
 def run_name(algo: str, map_mode: str, seed: int) -> str:
@@ -645,7 +672,7 @@ def train(
         done = 0
         set_random_seed(seed)
         env = make_training_env(recipe["env_kwargs"], recipe["n_envs"], seed, env_id, env_threads)
-        algo_kwargs = {k: v for k, v in recipe.items() if k not in RUN_KEYS}
+        algo_kwargs = algorithm_kwargs(recipe)
         model = cls(recipe["policy"], env, seed=seed, device="cpu", **algo_kwargs)
         logger = make_logger(run_dir)
     model.set_logger(logger)
