@@ -17,8 +17,6 @@ pytest.importorskip("sb3_contrib")
 from agents.evaluate import summarize, wilson_interval
 from agents.seed_ranges import held_out_seeds
 from agents.train import (
-    ENV_ID,
-    HYPERPARAMS_DIR,
     TRAIN_LAYOUT_SEEDS,
     code_version,
     load_hyperparams,
@@ -206,31 +204,13 @@ def test_the_wilson_interval_holds_the_rate_even_at_zero_and_one(n):
 
 def test_evaluation_builds_the_env_from_the_recipe_without_its_reward_terms(tmp_path: Path):
     from agents.evaluate import evaluate, make_agent
+    from tests.recipes import train_with_recipe
 
-    recipes = yaml.safe_load((HYPERPARAMS_DIR / "ppo.yml").read_text())
-    recipe = recipes[ENV_ID]["gpis"]
-    recipe["env_kwargs"] = {
-        "map": "gpis",
-        "grid_shape": [36, 72],
-        "jar_count": 3,
-        "reward_approach": 10.0,
-        "reward_tip": 5.0,
-    }
-    path = tmp_path / "ppo.yml"
-    path.write_text(yaml.safe_dump({ENV_ID: {"gpis": recipe}}))
-    run_dir = train(
-        "ppo",
-        "gpis",
-        out=tmp_path / "runs",
-        timesteps=64,
-        n_envs=2,
-        torch_threads=1,
-        hyperparams=path,
-        progress_bar=False,
-    )
-    _, env_kwargs = make_agent(str(run_dir))
+    env_kwargs = {"map": "gpis", "grid_shape": [36, 72], "jar_count": 3}
+    rewards = {"reward_approach": 10.0, "reward_tip": 5.0}
+    run_dir = train_with_recipe(tmp_path, "gpis", env_kwargs={**env_kwargs, **rewards})
     # The grid and the jars as trained (the model's spaces need the grid), the default reward.
-    assert env_kwargs == {"map": "gpis", "grid_shape": [36, 72], "jar_count": 3}
+    assert make_agent(str(run_dir))[1] == env_kwargs
     (summary,) = evaluate([str(run_dir)], out=tmp_path / "eval", episodes=1, gifs=False)
     assert summary.map_mode == "gpis" and summary.episodes == 1
 

@@ -256,29 +256,16 @@ def test_bad_observation_spaces_are_rejected() -> None:
 
 
 def test_a_recipe_names_its_encoder_by_dotted_path(tmp_path: Path) -> None:
-    import yaml
-
     from agents.learned import LearnedAgent
-    from agents.train import ENV_ID, HYPERPARAMS_DIR, algorithm_kwargs, train
+    from agents.train import algorithm_kwargs
+    from tests.recipes import train_with_recipe
 
-    recipe = yaml.safe_load((HYPERPARAMS_DIR / "ppo.yml").read_text())[ENV_ID]["gpis"]
-    recipe["policy_kwargs"] = {
+    policy_kwargs = {
         "log_std_init": -1.0,
         "features_extractor_class": "agents.encoders.ImpalaMapExtractor",
         "features_extractor_kwargs": {"channels": [8, 16, 16], "map_features": 64},
     }
-    path = tmp_path / "ppo.yml"
-    path.write_text(yaml.safe_dump({ENV_ID: {"gpis": recipe}}))
-    run_dir = train(
-        "ppo",
-        "gpis",
-        out=tmp_path / "runs",
-        timesteps=64,
-        n_envs=2,
-        torch_threads=1,
-        hyperparams=path,
-        progress_bar=False,
-    )
+    run_dir = train_with_recipe(tmp_path, "gpis", policy_kwargs=policy_kwargs)
     agent = LearnedAgent(run_dir)
     assert isinstance(agent.model.policy.features_extractor, ImpalaMapExtractor)
     with pytest.raises(ValueError, match="features_extractor_class"):

@@ -1,0 +1,30 @@
+"""A tiny training run from a changed copy of a documented recipe, for the tests that check
+what a recipe's settings reach (the evaluation's env, the policy's encoder)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from agents.train import ENV_ID, HYPERPARAMS_DIR, train
+
+
+def train_with_recipe(tmp_path: Path, map_mode: str, **changes: Any) -> Path:
+    """Trains PPO for 64 steps on 2 envs with ``agents/hyperparams/ppo.yml``'s recipe for
+    ``map_mode``, its keys replaced by ``changes``; returns the run directory."""
+    recipe = yaml.safe_load((HYPERPARAMS_DIR / "ppo.yml").read_text())[ENV_ID][map_mode]
+    recipe.update(changes)
+    path = tmp_path / "ppo.yml"
+    path.write_text(yaml.safe_dump({ENV_ID: {map_mode: recipe}}))
+    return train(
+        "ppo",
+        map_mode,
+        out=tmp_path / "runs",
+        timesteps=64,
+        n_envs=2,
+        torch_threads=1,
+        hyperparams=path,
+        progress_bar=False,
+    )
