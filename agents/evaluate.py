@@ -476,6 +476,30 @@ def reusable_rows(
     return done
 
 
+def prepare_evaluation(
+    agent_specs: Sequence[str], out: Path, seeds: Sequence[int], resume: bool
+) -> tuple[list[tuple[Any, dict[str, Any]]], list[str], dict[str, str], dict]:
+    """What an evaluation of ``agent_specs`` on ``seeds`` into ``out`` starts from: each
+    agent with its env settings (``make_agent``), their unique names, their fingerprints by
+    spec, and the rows of ``out/episodes.csv`` it reuses (none without ``resume``), by
+    (name, seed); ``episodes.csv`` is rewritten to hold just those, agents as given, seeds
+    ascending."""
+    out.mkdir(parents=True, exist_ok=True)
+    made = [make_agent(spec) for spec in agent_specs]
+    names = unique_names([agent for agent, _ in made], agent_specs)
+    fingerprints = code_fingerprints(agent_specs)
+    map_modes = [env_kwargs["map"] for _, env_kwargs in made]
+    csv_path = out / "episodes.csv"
+    done = (
+        reusable_rows(csv_path, names, map_modes, [fingerprints[s] for s in agent_specs], seeds)
+        if resume
+        else {}
+    )
+    kept = [done[name, seed] for name in names for seed in seeds if (name, seed) in done]
+    write_episodes_csv(csv_path, kept)
+    return made, names, fingerprints, done
+
+
 def evaluate(
     agent_specs: Sequence[str],
     *,
@@ -515,23 +539,13 @@ def evaluate(
 
         torch.set_num_threads(torch_threads)
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     seeds = evaluation_seeds(split, episodes, final)
-    made = [make_agent(spec) for spec in agent_specs]
-    names = unique_names([agent for agent, _ in made], agent_specs)
-    fingerprints = code_fingerprints(agent_specs)
-    map_modes = [env_kwargs["map"] for _, env_kwargs in made]
+    made, names, fingerprints, done = prepare_evaluation(agent_specs, out, seeds, resume)
     csv_path = out / "episodes.csv"
-    done = (
-        reusable_rows(csv_path, names, map_modes, [fingerprints[s] for s in agent_specs], seeds)
-        if resume
-        else {}
-    )
 
     def ordered(name: str) -> list[dict[str, Any]]:
         return [done[name, seed] for seed in seeds if (name, seed) in done]
 
-    write_episodes_csv(csv_path, [row for name in names for row in ordered(name)])
     summaries, all_episodes = [], []
     runs: dict[str, Path] = {}
     with csv_path.open("a", newline="") as f:

@@ -31,7 +31,7 @@ import importlib.util
 import shutil
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -116,48 +116,35 @@ def train_all(grid: list[TrainingTrial], progress_bar: bool) -> list[Path]:
     return [train_trial(trial, progress_bar) for trial in grid]
 
 
-def machines_text(configs: list[dict]) -> str:
-    """The machines the runs trained on, as their configs record them."""
-    seen = []
-    for config in configs:
-        record = config.get("machine") or {}
-        gpu = record.get("gpu")
-        text = (
-            f"{record.get('cpus', '?')} CPU cores ({record.get('processor') or 'unknown CPU'}), "
-            + (f"GPU {gpu}" if gpu else "no GPU")
-            if record
-            else "an unrecorded machine"
-        )
-        if text not in seen:
-            seen.append(text)
-    return "; ".join(seen)
+def distinct(texts: Iterable[str]) -> list[str]:
+    """``texts`` without repeats, in first-seen order."""
+    return list(dict.fromkeys(texts))
 
 
-def commits_text(configs: list[dict]) -> str:
-    """The git commits the runs trained with, and whether any tree was dirty."""
-    seen = []
-    for config in configs:
-        code = config.get("code") or {}
-        commit = code.get("commit")
-        text = (
-            f"`{commit[:12]}`{' (with uncommitted changes)' if code.get('dirty') else ''}"
-            if commit
-            else "of an unrecorded version"
-        )
-        if text not in seen:
-            seen.append(text)
-    return ", ".join(seen)
+def machine_text(config: dict) -> str:
+    """The machine a run trained on, as its config records it."""
+    record = config.get("machine")
+    if not record:
+        return "an unrecorded machine"
+    gpu = record.get("gpu")
+    return f"{record.get('cpus', '?')} CPU cores ({record.get('processor') or 'unknown CPU'}), " + (
+        f"GPU {gpu}" if gpu else "no GPU"
+    )
 
 
-def ranges_text(configs: list[dict]) -> str:
-    """The training layout ranges the runs drew from."""
-    texts = []
-    for config in configs:
-        bounds = config.get("train_layout_seeds")
-        text = f"[{bounds[0]:,}, {bounds[1]:,})" if bounds else "an unrecorded range"
-        if text not in texts:
-            texts.append(text)
-    return ", ".join(texts)
+def commit_text(config: dict) -> str:
+    """The git commit a run trained with, and whether its tree was dirty."""
+    code = config.get("code") or {}
+    commit = code.get("commit")
+    if not commit:
+        return "of an unrecorded version"
+    return f"`{commit[:12]}`{' (with uncommitted changes)' if code.get('dirty') else ''}"
+
+
+def range_text(config: dict) -> str:
+    """The training layout range a run drew from."""
+    bounds = config.get("train_layout_seeds")
+    return f"[{bounds[0]:,}, {bounds[1]:,})" if bounds else "an unrecorded range"
 
 
 def results_markdown(budget_name: str, budget: Budget, run_dirs: list[Path], table: str) -> str:
@@ -166,7 +153,8 @@ def results_markdown(budget_name: str, budget: Budget, run_dirs: list[Path], tab
     configs = [yaml.safe_load((run_dir / "config.yml").read_text()) for run_dir in run_dirs]
     lines = [
         f"Produced by `make results` (`python -m agents.pipeline --budget {budget_name}`), "
-        f"training on {machines_text(configs)}, code {commits_text(configs)}. "
+        f"training on {'; '.join(distinct(map(machine_text, configs)))}, "
+        f"code {', '.join(distinct(map(commit_text, configs)))}. "
         "Figures and per-episode rows are in",
         f"[`{budget.results.name}/`]({budget.results.name}/); each run's config and training log",
         f"in `{budget.results.name}/training/`.",
@@ -188,7 +176,8 @@ def results_markdown(budget_name: str, budget: Budget, run_dirs: list[Path], tab
     seeds = held_out_seeds(budget.split, budget.episodes)
     lines += [
         "",
-        f"Training draws layout seeds from {ranges_text(configs)}; evaluation uses the held-out "
+        f"Training draws layout seeds from {', '.join(distinct(map(range_text, configs)))}; "
+        "evaluation uses the held-out "
         f"{budget.split} layouts {seeds[0]}..{seeds[-1]} (`agents/seed_ranges.py`), the same for "
         "every agent,",
         "with the environment's default reward (no shaping). Scripted agents run with the GPIS",

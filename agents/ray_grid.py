@@ -34,14 +34,10 @@ import ray
 from agents.evaluate import (
     EPISODE_COLUMNS,
     Summary,
-    code_fingerprints,
     episode_row,
     evaluate,
     evaluation_seeds,
-    make_agent,
-    reusable_rows,
-    unique_names,
-    write_episodes_csv,
+    prepare_evaluation,
 )
 from agents.grid import TrainingTrial, evaluate_shard, run_files, shards, train_trial
 from agents.scripted import SCRIPTED_AGENTS
@@ -124,17 +120,10 @@ def evaluate_on_ray(
     fails is retried ``max_failures`` times; if some still fail, ``GridError`` names them
     after the others have finished (their rows are kept: run again to finish)."""
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     seeds = evaluation_seeds(split, episodes, final)
-    made = [make_agent(spec) for spec in agent_specs]
-    names = unique_names([agent for agent, _ in made], agent_specs)
+    made, names, fingerprints, done = prepare_evaluation(agent_specs, out, seeds, resume=True)
     map_modes = [env_kwargs["map"] for _, env_kwargs in made]
-    fingerprints = code_fingerprints(agent_specs)
     csv_path = out / "episodes.csv"
-    done = reusable_rows(
-        csv_path, names, map_modes, [fingerprints[spec] for spec in agent_specs], seeds
-    )
-    write_episodes_csv(csv_path, list(done.values()))
     task = _evaluation_task.options(max_retries=max_failures, retry_exceptions=True)
     pending: dict[Any, tuple[str, str, str, list[int]]] = {}
     for spec, name, map_mode in zip(agent_specs, names, map_modes, strict=True):

@@ -665,8 +665,9 @@ def train(
         )
         if versions() != config["versions"]:  # the packages the rest was trained with
             config["resumes"][-1]["versions"] = versions()
-        if (code or code_version()) != config.get("code"):  # the code the rest ran
-            config["resumes"][-1]["code"] = code or code_version()
+        resumed_code = code or code_version()
+        if resumed_code != config.get("code"):  # the code the rest ran
+            config["resumes"][-1]["code"] = resumed_code
         print(f"resuming {run_dir} from {path} ({done:,} timesteps)", flush=True)
     else:
         done = 0
