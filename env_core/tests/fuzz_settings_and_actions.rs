@@ -7,9 +7,13 @@
 //!   with finite observations and infos, or is refused with an error; never a panic.
 //! - Any action sequence (in range, huge, NaN, infinite) steps or is refused with
 //!   `NonFiniteAction`, and a refused action leaves the episode as it was.
+//! - In the `probe` action mode, any sequence of indices (valid, fractional, negative, too
+//!   large, NaN) steps by at least one motion or is refused with `ProbeIndex` or
+//!   `NonFiniteAction`, leaving the episode as it was.
 //!
 //! `PROPTEST_CASES` sets the number of cases (the long run).
 
+use env_core::episode::probe::ActionMode;
 use env_core::episode::step_info::InfoValue;
 use env_core::episode::{
     Episode, EpisodeConfig, EpisodeError, MapMode, PROPRIO_LEN, STEP_INFO_FIELDS,
@@ -119,6 +123,16 @@ fn action() -> impl Strategy<Value = [f64; 3]> {
         1 => Just(f64::NAN),
         1 => Just(f64::NEG_INFINITY),
         1 => Just(f64::MAX),
+    ];
+    [component.clone(), component.clone(), component]
+}
+
+fn probe_action() -> impl Strategy<Value = [f64; 3]> {
+    let component = prop_oneof![
+        8 => (0u32..12).prop_map(f64::from),
+        1 => -3.0..40.0f64,
+        1 => Just(f64::NAN),
+        1 => Just(1e300),
     ];
     [component.clone(), component.clone(), component]
 }
@@ -238,5 +252,45 @@ fn huge_depth_noise_builds_and_steps_in_every_map_mode() {
         let mut episode = Episode::new(config, 0).expect("builds");
         episode.step([0.5, 0.5, 0.0]).expect("steps");
         assert_outputs_finite(&episode).expect("finite");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(cases(24)))]
+
+    #[test]
+    fn any_probe_sequence_steps_or_is_refused_leaving_the_episode_as_it_was(
+        mode in prop::sample::select(vec![MapMode::Gpis, MapMode::Occupancy, MapMode::None]),
+        seed in any::<u64>(),
+        actions in prop::collection::vec(probe_action(), 1..8),
+    ) {
+        let mut config = EpisodeConfig::default();
+        config.map.mode = mode;
+        config.action_mode = ActionMode::Probe;
+        let counts = config.probe.counts();
+        let mut episode = Episode::new(config, seed).expect("default settings build");
+        for action in actions {
+            let before = *episode.last_info();
+            let valid = action
+                .iter()
+                .zip(counts)
+                .all(|(&a, n)| a.fract() == 0.0 && a >= 0.0 && a < n as f64);
+            match episode.step(action) {
+                Ok(info) => {
+                    prop_assert!(valid, "{action:?} was taken");
+                    prop_assert!(info.motions >= 1);
+                    prop_assert_eq!(info.steps, before.steps + info.motions);
+                    assert_outputs_finite(&episode)?;
+                }
+                Err(EpisodeError::ProbeIndex { .. } | EpisodeError::NonFiniteAction { .. }) => {
+                    prop_assert!(!valid, "{action:?} was refused");
+                    prop_assert_eq!(*episode.last_info(), before);
+                }
+                Err(other) => {
+                    prop_assert!(before.terminated, "{other}");
+                    break;
+                }
+            }
+        }
     }
 }

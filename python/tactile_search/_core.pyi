@@ -209,6 +209,28 @@ class EpisodeSettings(SceneSettings, total=False):
     """A jar whose axis leans more than this from vertical has tipped over, rad. Default 0.5.
     Range (0, 1.6].
     """
+    action_mode: Literal["wrist", "probe"]
+    """What an action is: 'wrist' (v0: a wrist motion per step, Box(-1, 1, (3,))) or 'probe' (a
+    lane, depth and sweep per step, MultiDiscrete([probe_lanes, probe_depths, probe_sweeps]),
+    driven there by an observation-only controller; every motion is a step of max_steps and of
+    the reward). Default 'wrist'.
+    """
+    probe_lanes: int
+    """Lanes across the opening a probe can go in by (the first action index). Default 29. Range
+    [1, 1000].
+    """
+    probe_depths: int
+    """Wrist depths a probe can go to (the second action index). Default 10. Range [1, 1000]."""
+    probe_sweeps: int
+    """Sweep angles a probe can turn the finger to (the third action index); odd counts include 0
+    (no turn). Default 9. Range [1, 1000].
+    """
+    probe_max_angle: float
+    """Largest sweep angle either way, rad. Default 1.0. Range (0, 1.5]."""
+    probe_sweep_rate: float
+    """The controller's turn per motion while sweeping, rad (at most the hand's max_step_yaw).
+    Default 0.05. Range (0, 1.5].
+    """
     map: Literal["gpis", "occupancy", "none"]
     """Which map the agent sees: the GPIS mean and std, a plain occupancy grid, or none. Default
     'gpis'.

@@ -20,7 +20,8 @@ use super::exclusive::Exclusive;
 use super::settings::{config_dict, config_from, describe};
 use super::step_info::info_dict;
 use crate::episode::{
-    oracle_action, Command, EpisodeBatch, EpisodeConfig, EpisodeError, MapMode, PROPRIO_LEN,
+    oracle_action, ActionMode, Command, EpisodeBatch, EpisodeConfig, EpisodeError, MapMode,
+    PROPRIO_LEN,
 };
 use crate::scene::JarShape;
 use crate::settings::Choice;
@@ -292,8 +293,16 @@ impl PyEpisodeBatch {
         ))
     }
 
-    /// The oracle's actions (N, 3): it knows the target (the upper-bound baseline).
+    /// The oracle's actions (N, 3): it knows the target (the upper-bound baseline). Wrist
+    /// motions: `ValueError` in the `probe` action mode.
     fn oracle_actions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        if self.config.action_mode != ActionMode::Wrist {
+            return Err(wrong_value(
+                "action_mode",
+                "'wrist' for the oracle's actions (wrist motions)",
+                self.config.action_mode.name(),
+            ));
+        }
         let flat: Vec<f64> = self
             .state
             .lock()?
@@ -414,6 +423,19 @@ impl PyEpisodeBatch {
     #[getter]
     fn proprio_len(&self) -> usize {
         PROPRIO_LEN
+    }
+
+    /// `"wrist"` or `"probe"`: what an action is.
+    #[getter]
+    fn action_mode(&self) -> &'static str {
+        self.config.action_mode.name()
+    }
+
+    /// The `probe` action mode's index counts `(lanes, depths, sweeps)`: its
+    /// `MultiDiscrete` space's `nvec` (None in the `wrist` mode).
+    #[getter]
+    fn probe_counts(&self) -> Option<[usize; 3]> {
+        (self.config.action_mode == ActionMode::Probe).then(|| self.config.probe.counts())
     }
 
     /// The hand's largest translation (m) and yaw (rad) per step: the action scale.

@@ -16,7 +16,7 @@ use rayon::prelude::*;
 use rayon::{ThreadPool, ThreadPoolBuilder};
 
 use super::config::EpisodeConfig;
-use super::episode::{check_finite, Episode};
+use super::episode::Episode;
 use super::error::EpisodeError;
 use super::observation::PROPRIO_LEN;
 use super::step_info::InfoColumns;
@@ -151,8 +151,9 @@ impl EpisodeBatch {
 
     /// Carries out `commands[i]` on episode i, on all worker threads, and writes the
     /// observation of every episode stepped or reset into its rows of `maps` (N × map_len)
-    /// and `proprio` (N × PROPRIO_LEN). Every action is checked finite before any episode
-    /// moves, so a bad action changes nothing. Otherwise the first failing episode (a step
+    /// and `proprio` (N × PROPRIO_LEN). Every action is checked (finite; in the `probe`
+    /// mode, indices within their counts) before any episode moves, so a bad action
+    /// changes nothing. Otherwise the first failing episode (a step
     /// after termination) is reported as [`EpisodeError::InEpisode`]; the others have run.
     /// Cost: the slowest worker's share, tasks balanced by work stealing.
     pub fn run(
@@ -172,7 +173,9 @@ impl EpisodeBatch {
         self.check_buffers(maps, proprio)?;
         for (index, command) in commands.iter().enumerate() {
             if let Command::Step(action) = command {
-                check_finite(action).map_err(|e| e.in_episode(index))?;
+                self.episodes[index]
+                    .check_action(action)
+                    .map_err(|e| e.in_episode(index))?;
             }
         }
         let map_len = self.map_len();

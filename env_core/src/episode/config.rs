@@ -3,6 +3,7 @@
 //! the environment's keyword arguments, its docs and the stub are made from.
 
 use super::error::EpisodeError;
+use super::probe::{check_sweep_rate, ActionMode, ProbeConfig};
 use crate::scene::SceneConfig;
 use crate::settings;
 use crate::settings::{Choice, Range, SettingError, Settings};
@@ -107,8 +108,15 @@ settings! {
         max_steps: usize = 200 => "max_steps" in Range::AT_LEAST_ONE,
         /// A jar whose axis leans more than this from vertical has tipped over, rad.
         tip_angle: f64 = 0.5 => "tip_angle" in Range::left_open(0.0, 1.6),
+        /// What an action is: 'wrist' (v0: a wrist motion per step, Box(-1, 1, (3,))) or
+        /// 'probe' (a lane, depth and sweep per step, MultiDiscrete([probe_lanes,
+        /// probe_depths, probe_sweeps]), driven there by an observation-only controller;
+        /// every motion is a step of max_steps and of the reward).
+        action_mode: ActionMode = ActionMode::Wrist => "action_mode" in Range::FINITE,
     }
     sections {
+        /// The probes of the `probe` action mode.
+        probe: ProbeConfig,
         /// The map.
         map: MapConfig,
         /// The reward.
@@ -116,7 +124,13 @@ settings! {
         /// The physical scene.
         scene: SceneConfig,
     }
-    check_across = check_grid;
+    check_across = check_across;
+}
+
+/// The grid's cells must be square, and a probe's sweep no faster than the hand turns.
+fn check_across(c: &EpisodeConfig) -> Result<(), SettingError> {
+    check_grid(c)?;
+    check_sweep_rate(&c.probe, &c.scene.hand)
 }
 
 /// The grid's cells must be square over the cupboard's interior.

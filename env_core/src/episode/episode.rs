@@ -5,6 +5,8 @@
 //! opening. step(action): scale and clip the wrist motion, step the scene (several physics
 //! substeps), add the new contacts to the map (skipping uninformative ones), then reward,
 //! termination, truncation (the time limit `max_steps` is the episode's own) and metrics.
+//! In the `probe` action mode a step is a whole probe: the controller's wrist motions, each
+//! such a step, with their rewards summed ([`super::probe`]).
 
 use super::approach::{fingertip, ApproachField};
 use super::config::{EpisodeConfig, MapMode};
@@ -13,6 +15,7 @@ use super::metrics::{footprint_mask, iou};
 use super::observation::{encode_gpis, encode_occupancy, proprio, PROPRIO_LEN};
 use super::occupancy::OccupancyGrid;
 use super::prior::depth_prior;
+use super::probe::{ActionMode, Phase, ProbeController};
 use super::step_info::StepInfo;
 use crate::gpis::{Gpis, GpisConfig, GridSpec};
 use crate::scene::{Contact, HandCommand, Scene};
@@ -36,6 +39,7 @@ pub struct Episode {
     /// The map's IoU against the truth, until the map or the truth changes.
     iou: Option<f64>,
     approach: ApproachField,
+    probes: ProbeController,
     last_info: StepInfo,
 }
 
@@ -57,6 +61,13 @@ impl Episode {
         let occupancy =
             (config.map.mode == MapMode::Occupancy).then(|| OccupancyGrid::new(grid.clone()));
         let scene = Scene::new(config.scene.clone(), seed)?;
+        let cupboard = &config.scene.cupboard;
+        let probes = ProbeController::new(
+            &config.probe,
+            &config.scene.hand,
+            cupboard.width,
+            cupboard.depth,
+        );
         let mut episode = Self {
             config,
             grid,
@@ -70,6 +81,7 @@ impl Episode {
             truth_poses: Vec::new(),
             iou: None,
             approach: ApproachField::default(),
+            probes,
             last_info: StepInfo::default(),
         };
         episode.start()?;
@@ -222,20 +234,66 @@ impl Episode {
         }
     }
 
-    /// Takes one step. `action` is in [−1, 1]³ (dx, dy, dyaw), scaled by the hand's
-    /// `max_step_translation` and `max_step_yaw`; components outside are clipped (and
-    /// reported). Fails on a non-finite action or after the episode has ended.
+    /// Takes one step. In the `wrist` action mode `action` is in [−1, 1]³ (dx, dy, dyaw),
+    /// scaled by the hand's `max_step_translation` and `max_step_yaw`; components outside
+    /// are clipped (and reported). In the `probe` mode it is the (lane, depth, sweep)
+    /// indices of a probe. Fails on a non-finite action, a probe index out of its count,
+    /// or after the episode has ended.
     pub fn step(&mut self, action: [f64; 3]) -> Result<StepInfo, EpisodeError> {
-        check_finite(&action)?;
+        self.check_action(&action)?;
         self.advance(action)
     }
 
-    /// [`Episode::step`] for an action already checked finite (the batch checks all of its
+    /// Fails on a non-finite action, or in the `probe` mode on an index that is not an
+    /// integer within its count.
+    pub(crate) fn check_action(&self, action: &[f64; 3]) -> Result<(), EpisodeError> {
+        check_finite(action)?;
+        match self.config.action_mode {
+            ActionMode::Wrist => Ok(()),
+            ActionMode::Probe => self.probes.check(action),
+        }
+    }
+
+    /// [`Episode::step`] for an action already checked (the batch checks all of its
     /// actions once, before stepping any).
     pub(crate) fn advance(&mut self, action: [f64; 3]) -> Result<StepInfo, EpisodeError> {
         if self.ended {
             return Err(EpisodeError::Ended);
         }
+        match self.config.action_mode {
+            ActionMode::Wrist => self.move_wrist(action),
+            ActionMode::Probe => self.probe(action),
+        }
+    }
+
+    /// One probe: the controller's wrist motions until the probe is done, the finger
+    /// starts touching while going in or sweeping, the hand is blocked or the episode
+    /// ends (at least one motion: a probe to where the hand already is waits a step). The
+    /// reward terms and the counts of readings and rows are summed over the motions; the
+    /// rest is the last motion's.
+    fn probe(&mut self, action: [f64; 3]) -> Result<StepInfo, EpisodeError> {
+        let probe = self.probes.probe(&action);
+        let mut total = StepInfo::default();
+        let mut touching = !self.scene.contacts().is_empty();
+        loop {
+            let (phase, motion) = self.probes.next_motion(self.scene.hand_pose(), &probe);
+            if phase == Phase::Done && total.motions > 0 {
+                break;
+            }
+            let info = self.move_wrist(motion)?;
+            total = total.then(&info);
+            let touched = info.contacts > 0 && !touching;
+            touching = info.contacts > 0;
+            if info.terminated || info.truncated || info.blocked || (touched && phase.explores()) {
+                break;
+            }
+        }
+        self.last_info = total;
+        Ok(total)
+    }
+
+    /// One wrist motion (the `wrist` mode's step).
+    fn move_wrist(&mut self, action: [f64; 3]) -> Result<StepInfo, EpisodeError> {
         let clipped = action.iter().any(|v| v.abs() > 1.0);
         let [ax, ay, ayaw] = action.map(|v| v.clamp(-1.0, 1.0));
         let hand = &self.config.scene.hand;
@@ -268,6 +326,7 @@ impl Episode {
         info.contacts_dropped = contacts_dropped;
         info.clipped = clipped;
         info.blocked = report.blocked.is_some();
+        info.motions = 1;
         self.ended = info.terminated;
         self.last_info = info;
         Ok(info)

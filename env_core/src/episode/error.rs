@@ -26,6 +26,19 @@ pub enum EpisodeError {
         /// Value given.
         value: f64,
     },
+    /// A `probe` mode action component is not an index within its count.
+    #[error(
+        "action[{index}] must be an integer in 0..{count} (the probe action mode's \
+         [lane, depth, sweep] indices), got {value}"
+    )]
+    ProbeIndex {
+        /// Component index (0 = lane, 1 = depth, 2 = sweep).
+        index: usize,
+        /// Value given.
+        value: f64,
+        /// The component's count (probe_lanes, probe_depths or probe_sweeps).
+        count: usize,
+    },
     /// `step` was called on an episode that has ended (success or a tipped jar).
     #[error("the episode has ended (terminated); call reset() before stepping again")]
     Ended,

@@ -10,6 +10,8 @@
 //! - [`metrics`]: true footprints and the IoU of a map against them.
 //! - [`level_set`], [`outline`]: the map's zero level set and its distance to the true
 //!   outlines.
+//! - [`probe`]: the `probe` action mode (a lane, depth and sweep per step) and its
+//!   controller.
 //! - [`oracle`]: a scripted searcher that knows the target (the upper bound).
 //! - [`Episode`]: reset, step, observations.
 //! - [`EpisodeBatch`]: many episodes stepped on all cores.
@@ -27,6 +29,7 @@ pub mod occupancy;
 pub mod oracle;
 pub mod outline;
 pub mod prior;
+pub mod probe;
 pub mod step_info;
 
 pub use batch::{Command, EpisodeBatch};
@@ -35,4 +38,5 @@ pub use episode::Episode;
 pub use error::EpisodeError;
 pub use observation::{PROPRIO_FIELDS, PROPRIO_LEN};
 pub use oracle::oracle_action;
+pub use probe::{ActionMode, ProbeConfig};
 pub use step_info::{StepInfo, STEP_INFO_FIELDS};

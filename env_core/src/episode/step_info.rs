@@ -5,14 +5,16 @@
 //! [`InfoColumns`] writes the infos of a batch as one column per field (the layout of the
 //! vector env's dict of arrays). Cost: O(fields) per episode.
 
-/// What one step did: the reward term by term, the episode end, and the metrics.
+/// What one step did: the reward term by term, the episode end, and the metrics. In the
+/// `probe` action mode a step is a probe's wrist motions (see [`StepInfo::then`]): its
+/// reward terms are the sums of theirs.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct StepInfo {
     /// Total reward: the sum of the five terms below.
     pub reward: f64,
     /// `reward.success` when the finger touched the target this step, else 0.
     pub reward_success: f64,
-    /// `−reward.step_cost`.
+    /// `−reward.step_cost` per wrist motion.
     pub reward_step: f64,
     /// `−reward.displacement · max(0, D_t − D_{t−1})`, `D` the jars' summed planar
     /// displacement from their start (m).
@@ -30,7 +32,7 @@ pub struct StepInfo {
     pub success: bool,
     /// A jar tipped over.
     pub tipped: bool,
-    /// Steps since reset.
+    /// Wrist motions since reset (the steps of the time limit).
     pub steps: usize,
     /// Planar displacement since reset, summed over jars, m.
     pub jar_displacement: f64,
@@ -58,6 +60,33 @@ pub struct StepInfo {
     pub clipped: bool,
     /// A wall (or the workspace edge) stopped the hand.
     pub blocked: bool,
+    /// Wrist motions this step made: 1 in the `wrist` action mode, the probe's in the
+    /// `probe` mode (0 after a reset).
+    pub motions: usize,
+}
+
+impl StepInfo {
+    /// This step followed by `next` as one step (a probe's motions): the reward terms,
+    /// the readings, rows and motions summed, `clipped` and `blocked` if either was, and
+    /// the rest (the episode end and the state's metrics) `next`'s.
+    pub fn then(&self, next: &StepInfo) -> StepInfo {
+        StepInfo {
+            reward: self.reward + next.reward,
+            reward_success: self.reward_success + next.reward_success,
+            reward_step: self.reward_step + next.reward_step,
+            reward_displacement: self.reward_displacement + next.reward_displacement,
+            reward_tip: self.reward_tip + next.reward_tip,
+            reward_approach: self.reward_approach + next.reward_approach,
+            contacts: self.contacts + next.contacts,
+            rows_added: self.rows_added + next.rows_added,
+            contacts_skipped: self.contacts_skipped + next.contacts_skipped,
+            contacts_dropped: self.contacts_dropped + next.contacts_dropped,
+            clipped: self.clipped || next.clipped,
+            blocked: self.blocked || next.blocked,
+            motions: self.motions + next.motions,
+            ..*next
+        }
+    }
 }
 
 /// How an info field reads its value: its type (numpy dtype float64, bool, int64) and getter.
@@ -106,14 +135,14 @@ macro_rules! info_fields {
 
 info_fields! {
     reward_success: Float, "reward_success when the finger touched the target this step, else 0";
-    reward_step: Float, "-reward_step_cost";
+    reward_step: Float, "-reward_step_cost per wrist motion";
     reward_displacement: Float, "-reward_displacement times the jar displacement added this step";
     reward_tip: Float, "-reward_tip when a jar tipped over this step, else 0";
     reward_approach: Float, "reward_approach times the shrink of target_distance this step";
     target_distance: Float, "the fingertip's path distance to the target, m";
     success: Flag, "the finger touched the target";
     tipped: Flag, "a jar tipped over";
-    steps: Count, "steps since reset";
+    steps: Count, "wrist motions since reset (the time limit counts them)";
     jar_displacement: Float, "planar displacement since reset, summed over jars, m";
     max_jar_displacement: Float, "largest jar displacement since reset, m";
     max_tilt: Float, "largest jar tilt now, rad";
@@ -126,6 +155,7 @@ info_fields! {
     iou: Float, "IoU of the map's interior against the true jar footprints";
     clipped: Flag, "the action was outside [-1, 1] and was clipped";
     blocked: Flag, "a wall or the workspace edge stopped the hand";
+    motions: Count, "wrist motions this step (1 in the wrist action mode, a probe's in the probe mode)";
     truncated: Flag, "the time limit ended the episode (steps >= max_steps, not terminated)";
 }
 

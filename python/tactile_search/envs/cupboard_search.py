@@ -26,7 +26,14 @@ def observation_space(config: CupboardSearchConfig, proprio_len: int) -> spaces.
     return spaces.Dict(entries)
 
 
-ACTION_SPACE = spaces.Box(-1.0, 1.0, (3,), np.float32)
+def action_space(batch: Any) -> spaces.Space:
+    """The action space of one environment of ``batch`` (a ``_core.EpisodeBatch``): the
+    ``wrist`` mode's ``Box(-1, 1, (3,))``, or the ``probe`` mode's ``MultiDiscrete`` over the
+    core's (lanes, depths, sweeps) counts."""
+    counts = batch.probe_counts
+    if counts is None:
+        return spaces.Box(-1.0, 1.0, (3,), np.float32)
+    return spaces.MultiDiscrete(np.asarray(counts, dtype=np.int64))
 
 
 class CupboardSearchEnv(gym.Env, EzPickle):
@@ -54,6 +61,15 @@ class CupboardSearchEnv(gym.Env, EzPickle):
     Components outside [-1, 1] are clipped (``info["clipped"]``); NaN or infinite actions
     raise ``ValueError``. A motion that would drive the wrist or arm into a wall stops at
     contact (``info["blocked"]``).
+
+    With ``action_mode="probe"`` an action is a probe instead: ``MultiDiscrete([probe_lanes,
+    probe_depths, probe_sweeps])`` (default ``[29, 10, 9]``), a lane across the opening, a
+    wrist depth and a sweep angle of the finger. An observation-only controller in the core
+    drives the wrist there, leaving and entering the cupboard only straight along a lane,
+    and stops early when the finger starts touching something on the way in or while
+    sweeping. Every wrist motion it makes is a step of the time limit and of the reward
+    (the step's reward is their sum; ``info["motions"]`` counts them). An index outside
+    its count raises ``ValueError``. The same option serves every map mode.
 
     ## Observation Space
     ``Dict``:
@@ -126,7 +142,8 @@ class CupboardSearchEnv(gym.Env, EzPickle):
     order). Give each thread its own env, or step a vector env from one thread.
 
     ## Version History
-    - v0: first release.
+    - v0: first release. The ``probe`` action mode is an option (``action_mode``); the
+      default ``wrist`` mode is v0's behaviour, unchanged.
     """
 
     metadata: ClassVar[dict[str, Any]] = {"render_modes": ["rgb_array"], "render_fps": 10}
@@ -139,7 +156,7 @@ class CupboardSearchEnv(gym.Env, EzPickle):
         self.config = CupboardSearchConfig(**settings)
         self._batch = self.config.make_batch([0], threads=1)
         self.observation_space = observation_space(self.config, self._batch.proprio_len)
-        self.action_space = ACTION_SPACE
+        self.action_space = action_space(self._batch)
         # The episode so far, for pickling: its layout seed and the actions since its reset.
         self._episode_seed: int | None = None
         self._actions = np.empty((0, 3))
@@ -196,7 +213,8 @@ class CupboardSearchEnv(gym.Env, EzPickle):
                 self.step(action)
 
     def oracle_action(self) -> np.ndarray:
-        """The action of a scripted searcher that knows the target (the upper bound)."""
+        """The action of a scripted searcher that knows the target (the upper bound); a
+        wrist motion, so ``ValueError`` in the ``probe`` action mode."""
         return self._batch.oracle_actions()[0].astype(np.float32)
 
     def render_state(self) -> dict[str, Any]:

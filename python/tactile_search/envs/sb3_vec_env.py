@@ -25,7 +25,7 @@ from tactile_search.envs.config import (
     checked_layout_seeds,
     with_settings_signature,
 )
-from tactile_search.envs.cupboard_search import ACTION_SPACE, observation_space
+from tactile_search.envs.cupboard_search import action_space, observation_space
 from tactile_search.envs.vector import observation_dict
 
 
@@ -57,7 +57,9 @@ class CupboardSearchSb3VecEnv(VecEnv):
         self._batch = self.config.make_batch(self._new_seeds(num_envs), threads=threads)
         self.render_mode = None
         super().__init__(
-            num_envs, observation_space(self.config, self._batch.proprio_len), ACTION_SPACE
+            num_envs,
+            observation_space(self.config, self._batch.proprio_len),
+            action_space(self._batch),
         )
         self._actions: Any = np.zeros((num_envs, 3))
 

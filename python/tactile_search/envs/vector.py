@@ -26,7 +26,7 @@ from tactile_search.envs.config import (
     checked_layout_seeds,
     with_settings_signature,
 )
-from tactile_search.envs.cupboard_search import ACTION_SPACE, observation_space
+from tactile_search.envs.cupboard_search import action_space, observation_space
 
 
 def observation_dict(maps: np.ndarray | None, proprio: np.ndarray) -> dict[str, np.ndarray]:
@@ -69,7 +69,7 @@ class CupboardSearchVectorEnv(VectorEnv):
         self.config = CupboardSearchConfig(**kwargs)
         self._batch = self.config.make_batch(list(range(num_envs)), threads=threads)
         self.single_observation_space = observation_space(self.config, self._batch.proprio_len)
-        self.single_action_space = ACTION_SPACE
+        self.single_action_space = action_space(self._batch)
         self.observation_space = batch_space(self.single_observation_space, num_envs)
         self.action_space = batch_space(self.single_action_space, num_envs)
         self._needs_reset = np.zeros(num_envs, dtype=bool)

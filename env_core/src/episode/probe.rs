@@ -1,0 +1,308 @@
+//! The `probe` action mode: the agent chooses *where to probe* and an observation-only
+//! controller drives the wrist there (issue 11; the `wrist` mode, v0's, is unchanged).
+//!
+//! An action is three indices, a `MultiDiscrete([lanes, depths, sweeps])`:
+//! - a lane `x` across the opening (`probe_lanes` evenly spaced lanes that keep the wrist
+//!   [`LANE_WALL_CLEARANCE`] from the side walls);
+//! - a wrist depth `y` into the cupboard (`probe_depths` depths from the opening to where the
+//!   straight fingertip is [`DEPTH_BACK_CLEARANCE`] from the back wall);
+//! - a sweep: the finger's turn at that depth (`probe_sweeps` angles evenly over
+//!   `[-probe_max_angle, probe_max_angle]`; positive turns the finger towards +x).
+//!
+//! The controller moves only through space the hand can come and go by: it turns the finger
+//! back to straight (`UNTURN`), and to change lanes it backs out until the fingertip is
+//! outside the opening (`RETREAT`), moves sideways there (`SHIFT`) and goes straight in
+//! along the new lane (`ENTER`); then it turns the finger at `probe_sweep_rate` per motion
+//! (`SWEEP`). Each phase moves at most the hand's per-step bounds per motion, and every
+//! motion is one step of the scene (the reward's terms and the time limit count motions).
+//! It reads only what the observation holds (the wrist pose and whether the finger
+//! touches), and stops the probe early when the finger starts touching something while
+//! going in or sweeping, when the hand is blocked, or when the episode ends.
+//!
+//! Which lane is clear, how deep to go and which way to turn is the agent's decision: the
+//! controller does not read the map, so every map mode gets the same controller.
+
+use super::error::EpisodeError;
+use crate::scene::hand::reach;
+use crate::scene::{HandConfig, HandPose};
+use crate::settings;
+use crate::settings::{Choice, Range, SettingError};
+
+/// The wrist keeps this much room to the side walls in the outermost lanes, m.
+pub const LANE_WALL_CLEARANCE: f64 = 0.005;
+/// The straight fingertip stops this far from the back wall at the deepest depth, m.
+pub const DEPTH_BACK_CLEARANCE: f64 = 0.005;
+/// "Arrived" within this distance (m) or angle (rad).
+const POSITION_TOLERANCE: f64 = 1e-6;
+
+/// What an action means.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ActionMode {
+    /// v0: a wrist motion per step, `Box(-1, 1, (3,))` scaled by the hand's bounds.
+    Wrist,
+    /// A probe per step (lane, depth, sweep indices), driven by the controller.
+    Probe,
+}
+
+impl Choice for ActionMode {
+    const NAMES: &'static [&'static str] = &["wrist", "probe"];
+    const ANNOTATION: &'static str = "Literal['wrist', 'probe']";
+    const EXPECTED: &'static str = "'wrist' or 'probe'";
+
+    fn from_index(index: usize) -> Self {
+        [Self::Wrist, Self::Probe][index]
+    }
+
+    fn index(self) -> usize {
+        self as usize
+    }
+}
+
+settings! {
+    /// The probes of the `probe` action mode and how the controller carries them out.
+    pub struct ProbeConfig {
+        /// Lanes across the opening a probe can go in by (the first action index).
+        lanes: usize = 29 => "probe_lanes" in Range::closed(1.0, 1000.0),
+        /// Wrist depths a probe can go to (the second action index).
+        depths: usize = 10 => "probe_depths" in Range::closed(1.0, 1000.0),
+        /// Sweep angles a probe can turn the finger to (the third action index); odd counts
+        /// include 0 (no turn).
+        sweeps: usize = 9 => "probe_sweeps" in Range::closed(1.0, 1000.0),
+        /// Largest sweep angle either way, rad.
+        max_angle: f64 = 1.0 => "probe_max_angle" in Range::left_open(0.0, 1.5),
+        /// The controller's turn per motion while sweeping, rad (at most the hand's
+        /// max_step_yaw).
+        sweep_rate: f64 = 0.05 => "probe_sweep_rate" in Range::left_open(0.0, 1.5),
+    }
+    sections {}
+    check_across = |_| Ok(());
+}
+
+impl ProbeConfig {
+    /// The action's index counts: `[lanes, depths, sweeps]`.
+    pub fn counts(&self) -> [usize; 3] {
+        [self.lanes, self.depths, self.sweeps]
+    }
+}
+
+/// `count` evenly spaced values over `[low, high]` (the middle one for a count of 1).
+fn spaced(index: usize, count: usize, low: f64, high: f64) -> f64 {
+    if count <= 1 {
+        0.5 * (low + high)
+    } else {
+        low + (high - low) * index as f64 / (count - 1) as f64
+    }
+}
+
+/// One probe: go in along lane `x` to wrist depth `y`, then turn the wrist to `yaw`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Probe {
+    /// Lane, m.
+    pub x: f64,
+    /// Wrist depth, m.
+    pub y: f64,
+    /// Yaw at the end of the sweep, rad (0 points the finger along +y; a turn towards +x
+    /// is a negative yaw).
+    pub yaw: f64,
+}
+
+/// Where the controller is in a probe.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Phase {
+    /// Turning the finger back to straight.
+    Unturn,
+    /// Backing out until the fingertip is outside the opening.
+    Retreat,
+    /// Moving sideways outside the opening.
+    Shift,
+    /// Going straight in (or back) along the lane to the depth.
+    Enter,
+    /// Turning the finger at the depth.
+    Sweep,
+    /// At the probe's pose.
+    Done,
+}
+
+impl Phase {
+    /// Phases that move the finger into space not yet passed through: a new touch there
+    /// ends the probe.
+    pub fn explores(self) -> bool {
+        matches!(self, Self::Enter | Self::Sweep)
+    }
+}
+
+/// The probes of one configuration and the controller that carries them out.
+#[derive(Debug, Clone)]
+pub struct ProbeController {
+    config: ProbeConfig,
+    lane_edge: f64,
+    deepest: f64,
+    outside: f64,
+    max_step: f64,
+    max_yaw: f64,
+}
+
+impl ProbeController {
+    /// The probes over a cupboard `width` × `depth` (m) for `hand`.
+    pub fn new(config: &ProbeConfig, hand: &HandConfig, width: f64, depth: f64) -> Self {
+        let reach = reach(hand);
+        Self {
+            config: config.clone(),
+            lane_edge: (0.5 * width - hand.wrist_half_extent - LANE_WALL_CLEARANCE).max(0.0),
+            deepest: (depth - reach - DEPTH_BACK_CLEARANCE).max(0.0),
+            // The fingertip just outside the opening (and never deeper than the start).
+            outside: (-reach).min(hand.start[1]),
+            max_step: hand.max_step_translation,
+            max_yaw: hand.max_step_yaw,
+        }
+    }
+
+    /// Checks that `action` holds three indices within the counts.
+    pub fn check(&self, action: &[f64; 3]) -> Result<(), EpisodeError> {
+        for (index, (&value, count)) in action.iter().zip(self.config.counts()).enumerate() {
+            if value.fract() != 0.0 || value < 0.0 || value >= count as f64 {
+                return Err(EpisodeError::ProbeIndex {
+                    index,
+                    value,
+                    count,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The probe an action (checked by [`ProbeController::check`]) names.
+    pub fn probe(&self, action: &[f64; 3]) -> Probe {
+        let [lane, depth, sweep] = action.map(|v| v as usize);
+        let c = &self.config;
+        let angle = spaced(sweep, c.sweeps, -c.max_angle, c.max_angle);
+        Probe {
+            x: spaced(lane, c.lanes, -self.lane_edge, self.lane_edge),
+            y: spaced(depth, c.depths, 0.0, self.deepest),
+            yaw: -angle,
+        }
+    }
+
+    /// The next motion from wrist `pose` towards `probe`, as a wrist action in [−1, 1]³
+    /// (the `wrist` mode's scale), and the phase it belongs to (`Done` with no motion
+    /// when the wrist is there).
+    pub fn next_motion(&self, pose: HandPose, probe: &Probe) -> (Phase, [f64; 3]) {
+        let at_lane = (pose.x - probe.x).abs() <= POSITION_TOLERANCE;
+        let at_depth = (pose.y - probe.y).abs() <= POSITION_TOLERANCE;
+        let towards = |from: f64, to: f64, bound: f64| ((to - from) / bound).clamp(-1.0, 1.0);
+        if !(at_lane && at_depth) {
+            if pose.yaw.abs() > POSITION_TOLERANCE {
+                return (
+                    Phase::Unturn,
+                    [0.0, 0.0, towards(pose.yaw, 0.0, self.max_yaw)],
+                );
+            }
+            if !at_lane {
+                if pose.y > self.outside + POSITION_TOLERANCE {
+                    let dy = towards(pose.y, self.outside, self.max_step);
+                    return (Phase::Retreat, [0.0, dy, 0.0]);
+                }
+                return (
+                    Phase::Shift,
+                    [towards(pose.x, probe.x, self.max_step), 0.0, 0.0],
+                );
+            }
+            return (
+                Phase::Enter,
+                [0.0, towards(pose.y, probe.y, self.max_step), 0.0],
+            );
+        }
+        if (pose.yaw - probe.yaw).abs() <= POSITION_TOLERANCE {
+            return (Phase::Done, [0.0; 3]);
+        }
+        let turn = (probe.yaw - pose.yaw).clamp(-self.config.sweep_rate, self.config.sweep_rate);
+        (Phase::Sweep, [0.0, 0.0, turn / self.max_yaw])
+    }
+}
+
+/// The sweep rate must not exceed the hand's turn per step.
+pub fn check_sweep_rate(probe: &ProbeConfig, hand: &HandConfig) -> Result<(), SettingError> {
+    if probe.sweep_rate <= hand.max_step_yaw {
+        Ok(())
+    } else {
+        Err(SettingError::out_of_range(
+            "probe_sweep_rate",
+            format!("at most max_step_yaw ({})", hand.max_step_yaw),
+            probe.sweep_rate.to_string(),
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn controller() -> ProbeController {
+        ProbeController::new(&ProbeConfig::default(), &HandConfig::default(), 0.6, 0.3)
+    }
+
+    #[test]
+    fn probes_span_the_opening_and_the_depth_symmetrically() {
+        let c = controller();
+        let first = c.probe(&[0.0, 0.0, 0.0]);
+        let last = c.probe(&[28.0, 9.0, 8.0]);
+        assert!((first.x + last.x).abs() < 1e-12 && last.x > 0.25);
+        assert_eq!(first.y, 0.0);
+        assert!((first.yaw - 1.0).abs() < 1e-12 && (last.yaw + 1.0).abs() < 1e-12);
+        assert_eq!(c.probe(&[14.0, 0.0, 4.0]).x, 0.0);
+        assert_eq!(c.probe(&[14.0, 0.0, 4.0]).yaw, 0.0);
+    }
+
+    #[test]
+    fn indices_outside_the_counts_or_fractional_are_refused() {
+        let c = controller();
+        assert!(c.check(&[28.0, 9.0, 8.0]).is_ok());
+        for bad in [[29.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 0.5]] {
+            assert!(matches!(
+                c.check(&bad),
+                Err(EpisodeError::ProbeIndex { .. })
+            ));
+        }
+    }
+
+    #[test]
+    fn a_lane_change_turns_back_then_retreats_then_shifts_then_enters_then_sweeps() {
+        let c = controller();
+        let probe = c.probe(&[20.0, 5.0, 0.0]);
+        let mut pose = HandPose {
+            x: 0.0,
+            y: 0.1,
+            yaw: 0.3,
+        };
+        let hand = HandConfig::default();
+        let mut phases = vec![];
+        for _ in 0..500 {
+            let (phase, [dx, dy, dyaw]) = c.next_motion(pose, &probe);
+            if phases.last() != Some(&phase) {
+                phases.push(phase);
+            }
+            if phase == Phase::Done {
+                break;
+            }
+            assert!(dx.abs() <= 1.0 && dy.abs() <= 1.0 && dyaw.abs() <= 1.0);
+            pose.x += dx * hand.max_step_translation;
+            pose.y += dy * hand.max_step_translation;
+            pose.yaw += dyaw * hand.max_step_yaw;
+        }
+        use Phase::*;
+        assert_eq!(phases, [Unturn, Retreat, Shift, Enter, Sweep, Done]);
+        assert!((pose.x - probe.x).abs() < 1e-9 && (pose.y - probe.y).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_same_lane_goes_straight_to_the_new_depth() {
+        let c = controller();
+        let probe = c.probe(&[14.0, 2.0, 4.0]);
+        let pose = HandPose {
+            x: 0.0,
+            y: 0.15,
+            yaw: 0.0,
+        };
+        assert_eq!(c.next_motion(pose, &probe).0, Phase::Enter);
+    }
+}

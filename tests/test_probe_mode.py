@@ -1,0 +1,125 @@
+"""The ``probe`` action mode (``action_mode="probe"``): a ``MultiDiscrete`` space read from the
+core, the gymnasium and SB3 checkers in every map mode, the vector envs, clear errors, and
+pickling; the default ``wrist`` mode stays v0's."""
+
+from __future__ import annotations
+
+import pickle
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium import spaces
+from gymnasium.utils.env_checker import check_env
+
+import tactile_search  # noqa: F401  (registers the environment)
+from tactile_search import CupboardSearchEnv, CupboardSearchVectorEnv
+from tactile_search.envs.config import MAP_MODES
+from tactile_search.envs.sb3_vec_env import CupboardSearchSb3VecEnv
+
+ENV_ID = "tactile_search/CupboardSearch-v0"
+
+
+@pytest.mark.parametrize("mode", list(MAP_MODES))
+def test_gymnasium_env_checker_passes_in_the_probe_mode(mode: str) -> None:
+    env = gym.make(ENV_ID, map=mode, action_mode="probe")
+    check_env(env.unwrapped, skip_render_check=True)
+    env.close()
+
+
+@pytest.mark.parametrize("mode", list(MAP_MODES))
+def test_stable_baselines3_env_checker_passes_in_the_probe_mode(mode: str) -> None:
+    sb3_checker = pytest.importorskip("stable_baselines3.common.env_checker")
+    sb3_checker.check_env(CupboardSearchEnv(map=mode, action_mode="probe"), warn=True)
+
+
+def test_the_action_space_follows_the_mode_and_the_probe_counts() -> None:
+    assert CupboardSearchEnv().action_space == spaces.Box(-1.0, 1.0, (3,), np.float32)
+    env = CupboardSearchEnv(action_mode="probe", probe_lanes=7, probe_depths=4, probe_sweeps=3)
+    assert env.action_space == spaces.MultiDiscrete([7, 4, 3])
+    vector = CupboardSearchVectorEnv(num_envs=2, action_mode="probe", probe_lanes=7)
+    assert vector.single_action_space == spaces.MultiDiscrete([7, 10, 9])
+    assert vector.action_space.shape == (2, 3)
+    sb3 = CupboardSearchSb3VecEnv(num_envs=2, action_mode="probe")
+    assert sb3.action_space == spaces.MultiDiscrete([29, 10, 9])
+
+
+def test_a_probe_step_is_many_motions_with_their_rewards_summed() -> None:
+    env = CupboardSearchEnv(action_mode="probe", map="none")
+    env.reset(seed=1_000_003)
+    _, reward, terminated, truncated, info = env.step(np.array([3, 6, 2]))
+    assert info["motions"] > 1 and info["steps"] == info["motions"]
+    assert reward == pytest.approx(
+        info["reward_success"]
+        + info["reward_step"]
+        + info["reward_displacement"]
+        + info["reward_tip"]
+        + info["reward_approach"]
+    )
+    assert info["reward_step"] == pytest.approx(-0.01 * info["motions"])
+    assert not terminated or info["success"] or info["tipped"]
+    assert isinstance(truncated, bool)
+
+
+def test_the_vector_envs_step_probe_batches() -> None:
+    vector = CupboardSearchVectorEnv(num_envs=3, action_mode="probe", map="gpis")
+    vector.reset(seed=[1_000_000, 1_000_001, 1_000_002])
+    actions = vector.action_space.sample()
+    observations, rewards, _, _, infos = vector.step(actions)
+    assert np.isfinite(rewards).all() and (infos["motions"] >= 1).all()
+    assert observations["map"].shape == (3, 2, 40, 80)
+    sb3 = CupboardSearchSb3VecEnv(num_envs=2, action_mode="probe", map="none", seed=5)
+    sb3.reset()
+    sb3.step_async(np.array([[14, 3, 4], [0, 9, 8]]))
+    _, sb3_rewards, _, _ = sb3.step_wait()
+    assert np.isfinite(sb3_rewards).all()
+
+
+@pytest.mark.parametrize(
+    ("action", "message"),
+    [
+        (np.array([29, 0, 0]), r"action\[0\] must be an integer in 0..29"),
+        (np.array([0, 10, 0]), r"action\[1\] must be an integer in 0..10"),
+        (np.array([0.0, 1.5, 0.0]), r"action\[1\] must be an integer in 0..10"),
+        (np.array([0, 0, -1]), r"action\[2\] must be an integer in 0..9"),
+        (np.array([1, 2]), "shape"),
+    ],
+)
+def test_bad_probe_indices_raise_value_error_naming_them(action: np.ndarray, message: str) -> None:
+    env = CupboardSearchEnv(action_mode="probe", map="none")
+    env.reset(seed=1_000_000)
+    with pytest.raises(ValueError, match=message):
+        env.step(action)
+
+
+def test_bad_probe_settings_raise_naming_them() -> None:
+    with pytest.raises(ValueError, match="action_mode"):
+        CupboardSearchEnv(action_mode="waypoint")
+    with pytest.raises(ValueError, match="probe_lanes"):
+        CupboardSearchEnv(action_mode="probe", probe_lanes=0)
+    with pytest.raises(ValueError, match="probe_sweep_rate"):
+        CupboardSearchEnv(action_mode="probe", probe_sweep_rate=0.5)
+    with pytest.raises(TypeError, match="probe_depths"):
+        CupboardSearchEnv(action_mode="probe", probe_depths="ten")
+
+
+def test_the_oracle_refuses_the_probe_mode() -> None:
+    env = CupboardSearchEnv(action_mode="probe")
+    env.reset(seed=1_000_000)
+    with pytest.raises(ValueError, match="action_mode"):
+        env.oracle_action()
+
+
+def test_a_pickled_probe_env_goes_on_exactly_as_the_original() -> None:
+    env = CupboardSearchEnv(action_mode="probe", map="gpis")
+    env.reset(seed=1_000_004)
+    env.step(np.array([10, 5, 7]))
+    clone = pickle.loads(pickle.dumps(env))
+    for action in ([20, 3, 1], [14, 8, 4]):
+        a = env.step(np.array(action))
+        b = clone.step(np.array(action))
+        np.testing.assert_array_equal(a[0]["map"], b[0]["map"])
+        np.testing.assert_array_equal(a[0]["proprio"], b[0]["proprio"])
+        assert a[1:4] == b[1:4]
+        if a[2]:
+            break
