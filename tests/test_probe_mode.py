@@ -123,3 +123,30 @@ def test_a_pickled_probe_env_goes_on_exactly_as_the_original() -> None:
         assert a[1:4] == b[1:4]
         if a[2]:
             break
+
+
+class _AlternatingProber:
+    """Goes in and out along one lane: many wrist motions per agent step."""
+
+    name = "alternating_prober"
+
+    def __init__(self) -> None:
+        self.calls = 0
+
+    def reset(self, env, observation, info) -> None:
+        self.calls = 0
+
+    def act(self, observation) -> np.ndarray:
+        self.calls += 1
+        return np.array([14, 9 * (self.calls % 2), 4])
+
+
+def test_an_evaluation_episode_ends_at_the_envs_own_time_limit_in_the_probe_mode() -> None:
+    from agents.scripted.rollout import run_episodes
+
+    agent = _AlternatingProber()
+    (result,) = run_episodes(agent, [1_000_001], action_mode="probe", map="none")
+    # The env's limit (200) counts wrist motions: far fewer agent steps end the episode.
+    assert result["steps"] <= 200
+    assert result["success"] or result["tips"] or result["steps"] == 200
+    assert agent.calls < 50

@@ -19,8 +19,9 @@ def run_episodes(
 ) -> list[dict[str, Any]]:
     """One ``CupboardSearchEnv`` episode per seed with ``agent``; per-episode summaries.
 
-    ``max_steps`` defaults to the env's ``max_steps`` (the registered time limit). Each dict:
-    seed, success, steps, tips, jar_displacement, max_jar_displacement, iou (final), reward.
+    ``max_steps`` (at most this many agent steps) defaults to the env's ``max_steps`` (the
+    registered time limit, which the env enforces itself). Each dict: seed, success, steps
+    (wrist motions), tips, jar_displacement, max_jar_displacement, iou (final), reward.
     ``on_step(env, step, done)``, if given, is called after the reset (step 0) and after
     every step (``done``: the episode's last), e.g. to render frames. ``on_episode(result)``,
     if given, is called with each episode's summary as soon as the episode ends (e.g. to write
@@ -36,11 +37,14 @@ def run_episodes(
             on_step(env, 0, False)
         total = 0.0
         for step in range(1, limit + 1):
-            observation, reward, terminated, _, info = env.step(agent.act(observation))
+            observation, reward, terminated, truncated, info = env.step(agent.act(observation))
             total += reward
+            # The env's own time limit counts wrist motions: in the probe action mode a
+            # step is many of them, so its truncation, not this loop's count, ends the run.
+            ended = terminated or truncated or step == limit
             if on_step is not None:
-                on_step(env, step, terminated or step == limit)
-            if terminated:
+                on_step(env, step, ended)
+            if ended:
                 break
         result = {
             "seed": seed,

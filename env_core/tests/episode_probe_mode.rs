@@ -49,25 +49,37 @@ fn a_probe_is_exactly_its_controllers_wrist_motions_and_stops_by_its_rules() {
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
             loop {
                 let action = random_probe(&mut rng, counts);
-                let touching_before = !moving.scene().contacts().is_empty();
                 let info = probing.step(action).unwrap();
                 assert!(info.motions >= 1);
                 // The same motions, one wrist step each, from the controller.
                 let probe = control.probe(&action);
                 let mut summed = StepInfo::default();
                 let mut phases = Vec::new();
-                let mut touching = touching_before;
-                let mut last_started_touch = false;
+                let mut touching = !moving.scene().contacts().is_empty();
+                let mut stop_reason = None;
                 for _ in 0..info.motions {
                     let (phase, motion) = control.next_motion(moving.scene().hand_pose(), &probe);
                     phases.push(phase);
+                    // Never a motion that presses on while the finger touches (a wait instead).
+                    let waits = phase == Phase::Done || (touching && phase.presses(&motion));
+                    let motion = if waits { [0.0; 3] } else { motion };
                     let step = moving.step(motion).unwrap();
-                    last_started_touch = step.contacts > 0 && !touching;
                     touching = step.contacts > 0;
+                    // A reason to stop holds only at the probe's last motion.
+                    assert_eq!(stop_reason, None, "map {map:?} seed {seed}: {phases:?}");
+                    if waits {
+                        stop_reason = Some("waited");
+                    } else if touching && phase.presses(&motion) {
+                        stop_reason = Some("pressed on a touch");
+                    }
                     summed.reward += step.reward;
                     summed.reward_step += step.reward_step;
                     summed.contacts += step.contacts;
                 }
+                assert!(
+                    stop_reason != Some("waited") || info.motions == 1,
+                    "map {map:?} seed {seed}: a wait is a probe's only motion"
+                );
                 assert_eq!(
                     observe(&probing),
                     observe(&moving),
@@ -77,20 +89,18 @@ fn a_probe_is_exactly_its_controllers_wrist_motions_and_stops_by_its_rules() {
                 assert!((info.reward_step - summed.reward_step).abs() < 1e-12);
                 assert_eq!(info.contacts, summed.contacts);
                 assert_eq!(info.steps, moving.last_info().steps);
-                // Why it stopped: arrived, ended, blocked or a new touch going in or sweeping.
-                let (now, _) = control.next_motion(moving.scene().hand_pose(), &probe);
-                let last_phase = *phases.last().unwrap();
+                // Why it stopped: arrived, ended, blocked, a touch after pressing on, or the
+                // next motion would press on a touch.
+                let (now, next) = control.next_motion(moving.scene().hand_pose(), &probe);
                 assert!(
                     now == Phase::Done
                         || info.terminated
                         || info.truncated
                         || info.blocked
-                        || (last_started_touch && last_phase.explores()),
+                        || stop_reason.is_some()
+                        || (touching && now.presses(&next)),
                     "map {map:?} seed {seed}: stopped in {phases:?} with {info:?}"
                 );
-                // No earlier motion started a touch while exploring (else it would have
-                // stopped there): checked by the motion count matching the replay above
-                // and the rule holding at the end.
                 if info.terminated || info.truncated {
                     break;
                 }
@@ -100,7 +110,7 @@ fn a_probe_is_exactly_its_controllers_wrist_motions_and_stops_by_its_rules() {
 }
 
 #[test]
-fn a_probe_into_a_jar_stops_at_the_touch_before_its_depth() {
+fn a_probe_into_a_jar_stops_at_the_touch_and_a_deeper_one_does_not_push_it() {
     let probe_config = config(MapMode::Gpis, ActionMode::Probe);
     let control = controller(&probe_config);
     let [lanes, depths, sweeps] = probe_config.probe.counts();

@@ -267,24 +267,31 @@ impl Episode {
     }
 
     /// One probe: the controller's wrist motions until the probe is done, the finger
-    /// starts touching while going in or sweeping, the hand is blocked or the episode
-    /// ends (at least one motion: a probe to where the hand already is waits a step). The
-    /// reward terms and the counts of readings and rows are summed over the motions; the
-    /// rest is the last motion's.
+    /// touches something after a motion that presses on (deeper, or sweeping), the next
+    /// motion would press on while the finger touches, the hand is blocked or the episode
+    /// ends. A probe that makes no motion (already there, or pressing on a touch) waits a
+    /// step. The reward terms and the counts of readings and rows are summed over the
+    /// motions; the rest is the last motion's.
     fn probe(&mut self, action: [f64; 3]) -> Result<StepInfo, EpisodeError> {
         let probe = self.probes.probe(&action);
         let mut total = StepInfo::default();
         let mut touching = !self.scene.contacts().is_empty();
         loop {
             let (phase, motion) = self.probes.next_motion(self.scene.hand_pose(), &probe);
-            if phase == Phase::Done && total.motions > 0 {
+            if phase == Phase::Done || (touching && phase.presses(&motion)) {
+                if total.motions == 0 {
+                    total = self.move_wrist([0.0; 3])?;
+                }
                 break;
             }
             let info = self.move_wrist(motion)?;
             total = total.then(&info);
-            let touched = info.contacts > 0 && !touching;
             touching = info.contacts > 0;
-            if info.terminated || info.truncated || info.blocked || (touched && phase.explores()) {
+            if info.terminated
+                || info.truncated
+                || info.blocked
+                || (touching && phase.presses(&motion))
+            {
                 break;
             }
         }

@@ -16,8 +16,10 @@
 //! (`SWEEP`). Each phase moves at most the hand's per-step bounds per motion, and every
 //! motion is one step of the scene (the reward's terms and the time limit count motions).
 //! It reads only what the observation holds (the wrist pose and whether the finger
-//! touches), and stops the probe early when the finger starts touching something while
-//! going in or sweeping, when the hand is blocked, or when the episode ends.
+//! touches), and stops the probe early when the finger touches something after a motion
+//! that goes deeper or sweeps, and before such a motion while the finger touches (so it
+//! never pushes on into a jar it found), when the hand is blocked, or when the episode
+//! ends. A probe that makes no motion waits a step.
 //!
 //! Which lane is clear, how deep to go and which way to turn is the agent's decision: the
 //! controller does not read the map, so every map mode gets the same controller.
@@ -124,10 +126,16 @@ pub enum Phase {
 }
 
 impl Phase {
-    /// Phases that move the finger into space not yet passed through: a new touch there
-    /// ends the probe.
-    pub fn explores(self) -> bool {
-        matches!(self, Self::Enter | Self::Sweep)
+    /// Whether `motion` in this phase presses the finger further into what it may touch
+    /// (going deeper along the lane, or sweeping): a touch after such a motion ends the
+    /// probe, and such a motion is not made while the finger touches, so the hand never
+    /// pushes on into a jar the finger has found.
+    pub fn presses(self, motion: &[f64; 3]) -> bool {
+        match self {
+            Self::Enter => motion[1] > 0.0,
+            Self::Sweep => true,
+            Self::Unturn | Self::Retreat | Self::Shift | Self::Done => false,
+        }
     }
 }
 
