@@ -126,7 +126,7 @@ def test_a_pickled_probe_env_goes_on_exactly_as_the_original() -> None:
 
 
 class _AlternatingProber:
-    """Goes in and out along one lane: many wrist motions per agent step."""
+    """Probes the outermost lanes in turn: many wrist motions per agent step."""
 
     name = "alternating_prober"
 
@@ -138,7 +138,7 @@ class _AlternatingProber:
 
     def act(self, observation) -> np.ndarray:
         self.calls += 1
-        return np.array([14, 9 * (self.calls % 2), 4])
+        return np.array([28 * (self.calls % 2), 0, 4])
 
 
 def test_an_evaluation_episode_ends_at_the_envs_own_time_limit_in_the_probe_mode() -> None:
