@@ -45,6 +45,30 @@ def test_planner_touches_the_target_without_ground_truth_or_tipping(seed: int) -
     assert info["success"] and info["tips"] == 0
 
 
+class StaticConfigOnly:
+    """What a planner may be handed instead of the env: the static configuration alone (no
+    episode, no scene, no oracle; any other attribute is an ``AttributeError``)."""
+
+    __slots__ = ("config",)
+
+    def __init__(self, env: CupboardSearchEnv) -> None:
+        self.config = env.config
+
+
+@pytest.mark.parametrize("seed", PLANNER_SEEDS[:3])
+def test_planner_sees_only_the_observation_and_the_static_configuration(seed: int) -> None:
+    env = CupboardSearchEnv()
+    planner = GpisPlanner()
+    observation, info = env.reset(seed=seed)
+    planner.reset(StaticConfigOnly(env), observation, {})  # no info: it holds metrics
+    for _ in range(env.config.max_steps):
+        # The planner gets the observation alone, never the info.
+        observation, _, terminated, _, info = env.step(planner.act(observation))
+        if terminated:
+            break
+    assert info["success"] and info["tips"] == 0
+
+
 def test_planner_needs_the_gpis_map() -> None:
     env = CupboardSearchEnv(map="none")
     observation, info = env.reset(seed=0)
