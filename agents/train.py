@@ -497,8 +497,14 @@ def train(
     keep_checkpoints: int = DEFAULT_KEEP_CHECKPOINTS,
     resume: bool = False,
     code: dict[str, Any] | None = None,
+    init_from: Path | None = None,
 ) -> Path:
     """Trains one agent and returns its run directory (``model.zip``, ``config.yml``, logs).
+
+    ``init_from`` (a run directory or its ``model.zip``, e.g. a published model under
+    ``docs/results/models/``) warm-starts the policy: its weights, for the same algorithm and
+    network, are loaded before training (the optimizer starts afresh); ``config.yml`` records
+    the path and the model's digest under ``init_from``.
 
     ``config.yml`` records ``code`` (the git commit and whether the tree was dirty), by
     default ``code_version()`` of this checkout.
@@ -553,6 +559,10 @@ def train(
     _check_positive_int("keep_checkpoints", keep_checkpoints)
     if not isinstance(resume, bool):
         raise TypeError(f"resume must be a bool, got {type(resume).__name__}")
+    if init_from is not None:
+        if resume:
+            raise ValueError("init_from starts a new run; a resumed run keeps its own weights")
+        init_from = model_file(Path(init_from))
     run_dir = Path(out) / run_name(algo, map_mode, seed)
     config_path = run_dir / "config.yml"
     if resume:
@@ -675,6 +685,8 @@ def train(
         env = make_training_env(recipe["env_kwargs"], recipe["n_envs"], seed, env_id, env_threads)
         algo_kwargs = algorithm_kwargs(recipe)
         model = cls(recipe["policy"], env, seed=seed, device="cpu", **algo_kwargs)
+        if init_from is not None:
+            config["init_from"] = warm_start(model, cls, init_from)
         logger = make_logger(run_dir)
     model.set_logger(logger)
     config["checkpoint_every"] = checkpoint_every
@@ -738,6 +750,42 @@ def train(
     return run_dir
 
 
+def model_file(path: Path) -> Path:
+    """``path`` if it is a model file, else ``path/model.zip``; ``ValueError`` if neither is."""
+    candidate = path / "model.zip" if path.is_dir() else path
+    if not candidate.is_file():
+        raise ValueError(
+            f"init_from must be a run directory with model.zip or a model file, got {path}"
+        )
+    return candidate
+
+
+def warm_start(model: Any, cls: type, path: Path) -> dict[str, str]:
+    """Loads the policy weights of the model at ``path`` into ``model`` (same algorithm and
+    network, else ``ValueError`` naming what differs); returns what config.yml records."""
+    from agents.evaluate import model_digest
+
+    try:
+        source = cls.load(path, device="cpu")
+    except Exception as err:
+        raise ValueError(f"init_from {path} does not load as {cls.__name__}: {err}") from err
+    if source.observation_space != model.observation_space:
+        raise ValueError(
+            f"init_from {path} was trained on observations {source.observation_space}, "
+            f"this run has {model.observation_space}"
+        )
+    if source.action_space != model.action_space:
+        raise ValueError(
+            f"init_from {path} was trained with actions {source.action_space}, "
+            f"this run has {model.action_space}"
+        )
+    try:
+        model.policy.load_state_dict(source.policy.state_dict())
+    except RuntimeError as err:
+        raise ValueError(f"init_from {path} has another network than this recipe's: {err}") from err
+    return {"path": str(path), "model_digest": model_digest(path).hex()}
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--algo", choices=ALGORITHMS, default="ppo")
@@ -770,6 +818,11 @@ def main(argv: list[str] | None = None) -> None:
         action="store_true",
         help="continue the run in --out from its newest checkpoint to its total timesteps",
     )
+    parser.add_argument(
+        "--init-from",
+        type=Path,
+        help="warm start: a run directory (or model.zip) whose policy weights this run starts from",
+    )
     args = parser.parse_args(argv)
     try:
         run_dir = train(
@@ -787,6 +840,7 @@ def main(argv: list[str] | None = None) -> None:
             checkpoint_every=args.checkpoint_every,
             keep_checkpoints=args.keep_checkpoints,
             resume=args.resume,
+            init_from=args.init_from,
         )
     except KeyboardInterrupt:
         sys.exit(INTERRUPTED_EXIT_STATUS)

@@ -11,11 +11,15 @@ import yaml
 from agents.train import ENV_ID, HYPERPARAMS_DIR, train
 
 
-def train_with_recipe(tmp_path: Path, map_mode: str, **changes: Any) -> Path:
+def train_with_recipe(
+    tmp_path: Path, map_mode: str, train_kwargs: dict[str, Any] | None = None, **changes: Any
+) -> Path:
     """Trains PPO for 64 steps on 2 envs with ``agents/hyperparams/ppo.yml``'s recipe for
-    ``map_mode``, its keys replaced by ``changes``; returns the run directory."""
+    ``map_mode``, its keys replaced by ``changes`` (``train_kwargs`` go to ``train``);
+    returns the run directory."""
     recipe = yaml.safe_load((HYPERPARAMS_DIR / "ppo.yml").read_text())[ENV_ID][map_mode]
     recipe.update(changes)
+    tmp_path.mkdir(parents=True, exist_ok=True)
     path = tmp_path / "ppo.yml"
     path.write_text(yaml.safe_dump({ENV_ID: {map_mode: recipe}}))
     return train(
@@ -27,4 +31,5 @@ def train_with_recipe(tmp_path: Path, map_mode: str, **changes: Any) -> Path:
         torch_threads=1,
         hyperparams=path,
         progress_bar=False,
+        **(train_kwargs or {}),
     )
