@@ -33,7 +33,8 @@ class TrainingTrial:
     ``runs``: the directory that holds the run directories (absolute, so a Ray trial, which
     may run in another working directory, writes to the same place). ``timesteps``: ``None`` for
     the recipe's ``n_timesteps``. ``cpus``: the CPUs the trial declares, used as its torch
-    threads and its environment batch's threads. ``n_envs``: ``None`` for the recipe's."""
+    threads and its environment batch's threads. ``n_envs``: ``None`` for the recipe's.
+    ``init_from``: a run directory or model file to warm-start from (``train``'s), or None."""
 
     algo: str
     map_mode: str
@@ -45,6 +46,7 @@ class TrainingTrial:
     # The code's git commit and dirty flag for config.yml, from where the grid was started
     # (a Ray worker's copy of ``agents`` is not a git checkout); None: the trainer's own.
     code: dict[str, Any] | None = field(default=None, hash=False)
+    init_from: str | None = None
 
     def __post_init__(self) -> None:
         if not Path(self.runs).is_absolute():
@@ -87,6 +89,7 @@ def train_trial(trial: TrainingTrial, progress_bar: bool = False) -> Path:
         progress_bar=progress_bar,
         resume=resume,
         code=trial.code,
+        init_from=None if resume or trial.init_from is None else Path(trial.init_from),
     )
 
 

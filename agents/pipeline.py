@@ -3,12 +3,14 @@ baselines on held-out layouts, write the results.
 
 Two budgets::
 
-    python -m agents.pipeline --budget demo     # make demo: ~6 min of training, results/
+    python -m agents.pipeline --budget demo     # make demo: a few minutes, results/
     python -m agents.pipeline --budget full     # make results: docs/RESULTS.md
 
-``demo`` trains the GPIS-map and the no-map PPO agents briefly and evaluates on 50
-layouts; ``full`` trains every learned agent (PPO with each map mode and the recurrent
-no-map agent) at its recipe's ``n_timesteps`` and evaluates on 200 layouts.
+``demo`` trains the GPIS-map and the no-map PPO agents briefly, each warm-started from its
+published model (``docs/results/models/``, when there is one), and evaluates them on 50
+validation layouts; ``full`` trains every learned agent (PPO with each map mode and the
+recurrent no-map agent) with training seeds 0, 1 and 2 at its recipe's ``n_timesteps``,
+into ``docs/results/models/`` (the published models), and evaluates on 200 test layouts.
 
 The grid (agents x training seeds, then the evaluation) runs on Ray when it is installed
 (the ``scale`` extra; ``--scheduler ray``): training trials and the evaluation run as Ray
@@ -40,7 +42,7 @@ import yaml
 from agents.evaluate import evaluate, markdown_table
 from agents.grid import TrainingTrial, train_trial
 from agents.seed_ranges import held_out_seeds
-from agents.train import INTERRUPTED_EXIT_STATUS, code_version, load_hyperparams
+from agents.train import INTERRUPTED_EXIT_STATUS, code_version, load_hyperparams, run_name
 
 
 @dataclass(frozen=True)
@@ -60,25 +62,37 @@ class Budget:
     cpus_per_trial: int
     # The held-out layouts (agents.seed_ranges): the test range is the final results' alone.
     split: str = "validation"
+    # Training seeds (one run per agent each); the CLI's --seeds overrides.
+    seeds: tuple[int, ...] = (0,)
+    # Where the published models are (docs/results/models/<run>/): a run of this budget
+    # warm-starts from the published run of the same agent and seed when there is one.
+    warm_start_from: Path | None = None
 
+
+# The documented budget's models (model.zip beside config.yml, one folder per run).
+PUBLISHED_MODELS = Path("docs/results/models")
 
 BUDGETS = {
     "demo": Budget(
         agents=(("ppo", "gpis"), ("ppo", "none")),
-        timesteps=250_000,
+        timesteps=4096,
         episodes=50,
         runs=Path("runs/demo"),
         results=Path("results"),
         cpus_per_trial=2,
+        warm_start_from=PUBLISHED_MODELS,
     ),
+    # The published models are the full budget's run directories themselves (their
+    # checkpoints and event files stay out of git): a rerun skips the finished ones.
     "full": Budget(
         agents=(("ppo", "gpis"), ("ppo", "occupancy"), ("ppo", "none"), ("recurrent_ppo", "none")),
         timesteps=None,
         episodes=200,
-        runs=Path("runs/full"),
+        runs=PUBLISHED_MODELS,
         results=Path("docs/results"),
         cpus_per_trial=1,
         split="test",
+        seeds=(0, 1, 2),
     ),
 }
 SCRIPTED = ("random", "gpis_planner", "oracle")
@@ -104,10 +118,20 @@ def trials(budget: Budget, seeds: list[int]) -> list[TrainingTrial]:
             timesteps=budget.timesteps,
             cpus=budget.cpus_per_trial,
             code=code,
+            init_from=warm_start_source(budget, algo, map_mode, seed),
         )
         for algo, map_mode in budget.agents
         for seed in seeds
     ]
+
+
+def warm_start_source(budget: Budget, algo: str, map_mode: str, seed: int) -> str | None:
+    """The published run a trial of ``budget`` warm-starts from, if the budget warm-starts and
+    that run is published (else the trial trains from scratch)."""
+    if budget.warm_start_from is None:
+        return None
+    published = budget.warm_start_from / run_name(algo, map_mode, seed) / "model.zip"
+    return str(published.resolve()) if published.is_file() else None
 
 
 def train_all(grid: list[TrainingTrial], progress_bar: bool) -> list[Path]:
@@ -269,19 +293,23 @@ def run_budget(
 
 def run(
     budget_name: str,
-    seeds: Sequence[int] = (0,),
+    seeds: Sequence[int] | None = None,
     scheduler: str | None = None,
     address: str | None = None,
     progress_bar: bool = True,
 ) -> Path:
     """Trains, evaluates and writes the results of ``budget_name``; returns the results dir.
-    ``scheduler`` defaults to ``default_scheduler()``."""
+    ``seeds`` defaults to the budget's; ``scheduler`` to ``default_scheduler()``."""
     if budget_name not in BUDGETS:
         raise ValueError(f"budget must be one of {sorted(BUDGETS)}, got {budget_name!r}")
     budget = BUDGETS[budget_name]
     started = time.perf_counter()
     run_dirs, table = run_budget(
-        budget, seeds, scheduler or default_scheduler(), address, progress_bar
+        budget,
+        budget.seeds if seeds is None else seeds,
+        scheduler or default_scheduler(),
+        address,
+        progress_bar,
     )
     if budget_name == "full":
         path = budget.results.parent / "RESULTS.md"
@@ -296,7 +324,10 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--budget", choices=sorted(BUDGETS), default="demo")
     parser.add_argument(
-        "--seeds", type=int, nargs="+", default=[0], help="training seeds (one run per agent each)"
+        "--seeds",
+        type=int,
+        nargs="+",
+        help="training seeds, one run per agent each (default: the budget's; full: 0 1 2)",
     )
     parser.add_argument(
         "--scheduler",

@@ -241,3 +241,24 @@ def test_the_results_page_takes_machines_code_and_seeds_from_the_run_configs(tmp
     assert "[4,294,967,296, 9,223,372,036,854,775,808)" in page
     assert "test layouts 2000000..2000199" in page
     assert "2-core" not in page  # nothing about the machine is a fixed string
+
+
+def test_a_budget_warm_starts_each_trial_from_its_published_run_when_there_is_one(
+    tmp_path: Path,
+):
+    import dataclasses
+
+    from agents.pipeline import BUDGETS, trials
+
+    published = tmp_path / "models"
+    (published / "ppo_gpis_seed0").mkdir(parents=True)
+    (published / "ppo_gpis_seed0" / "model.zip").write_bytes(b"weights")
+    budget = dataclasses.replace(BUDGETS["demo"], runs=tmp_path / "runs", warm_start_from=published)
+    by_name = {trial.name: trial for trial in trials(budget, [0, 1])}
+    assert by_name["ppo_gpis_seed0"].init_from == str(published / "ppo_gpis_seed0" / "model.zip")
+    assert by_name["ppo_gpis_seed1"].init_from is None  # not published: from scratch
+    assert by_name["ppo_none_seed0"].init_from is None
+    # The full budget trains the published models themselves, from scratch, with 3 seeds.
+    full = BUDGETS["full"]
+    assert full.warm_start_from is None and full.seeds == (0, 1, 2)
+    assert all(trial.init_from is None for trial in trials(full, list(full.seeds)))
