@@ -2,6 +2,9 @@
 //! where it says it does, bad indices move nothing, and the `wrist` mode (v0) is the
 //! default.
 
+mod common;
+use common::observe;
+
 use env_core::episode::probe::{ActionMode, Phase, ProbeController};
 use env_core::episode::{Command, Episode, EpisodeBatch, EpisodeConfig, EpisodeError, MapMode};
 use env_core::episode::{StepInfo, PROPRIO_LEN};
@@ -23,14 +26,6 @@ fn controller(config: &EpisodeConfig) -> ProbeController {
         cupboard.width,
         cupboard.depth,
     )
-}
-
-fn observe(episode: &Episode) -> (Vec<u8>, Vec<f32>) {
-    let mut map = vec![0u8; episode.map_len()];
-    let mut proprio = vec![0f32; PROPRIO_LEN];
-    episode.write_map(&mut map).unwrap();
-    episode.write_proprio(&mut proprio).unwrap();
-    (map, proprio)
 }
 
 fn random_probe(rng: &mut ChaCha8Rng, counts: [usize; 3]) -> [f64; 3] {

@@ -1,5 +1,8 @@
 //! Episodes are deterministic, finite, solvable, and the batch equals single episodes.
 
+mod common;
+use common::observe;
+
 use env_core::episode::{
     oracle_action, Command, Episode, EpisodeBatch, EpisodeConfig, EpisodeError, MapMode, StepInfo,
     PROPRIO_LEN,
@@ -12,14 +15,6 @@ fn config(mode: MapMode) -> EpisodeConfig {
     let mut config = EpisodeConfig::default();
     config.map.mode = mode;
     config
-}
-
-fn observe(episode: &Episode) -> (Vec<u8>, Vec<f32>) {
-    let mut map = vec![0u8; episode.map_len()];
-    let mut proprio = vec![0f32; PROPRIO_LEN];
-    episode.write_map(&mut map).unwrap();
-    episode.write_proprio(&mut proprio).unwrap();
-    (map, proprio)
 }
 
 fn random_actions(seed: u64, count: usize) -> Vec<[f64; 3]> {

@@ -1,9 +1,20 @@
 //! Geometry written independently of rapier/parry for the scene tests: signed distances and
-//! ray intersections of upright jars and axis-aligned wall boxes, in f64.
+//! ray intersections of upright jars and axis-aligned wall boxes, in f64; and an episode's
+//! observation for the episode tests.
 
 #![allow(dead_code)]
 
+use env_core::episode::{Episode, PROPRIO_LEN};
 use env_core::scene::{JarShape, JarSpec, JarState, SceneConfig, WallBox};
+
+/// An episode's observation: its map image and its proprio vector.
+pub fn observe(episode: &Episode) -> (Vec<u8>, Vec<f32>) {
+    let mut map = vec![0u8; episode.map_len()];
+    let mut proprio = vec![0f32; PROPRIO_LEN];
+    episode.write_map(&mut map).unwrap();
+    episode.write_proprio(&mut proprio).unwrap();
+    (map, proprio)
+}
 
 /// A jar's centre (x, y), yaw, height and shape from its current state (upright jars only).
 pub struct JarGeom {
