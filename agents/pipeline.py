@@ -39,7 +39,8 @@ from pathlib import Path
 
 import yaml
 
-from agents.evaluate import evaluate, markdown_table
+from agents.comparison import comparison_markdown
+from agents.evaluate import evaluate, markdown_table, read_episodes_csv
 from agents.grid import TrainingTrial, train_trial
 from agents.seed_ranges import held_out_seeds
 from agents.train import INTERRUPTED_EXIT_STATUS, code_version, load_hyperparams, run_name
@@ -96,6 +97,8 @@ BUDGETS = {
     ),
 }
 SCRIPTED = ("random", "gpis_planner", "oracle")
+# The agent every other is compared with.
+REFERENCE_AGENT = "ppo (gpis map)"
 
 
 SCHEDULERS = ("ray", "local")
@@ -171,7 +174,9 @@ def range_text(config: dict) -> str:
     return f"[{bounds[0]:,}, {bounds[1]:,})" if bounds else "an unrecorded range"
 
 
-def results_markdown(budget_name: str, budget: Budget, run_dirs: list[Path], table: str) -> str:
+def results_markdown(
+    budget_name: str, budget: Budget, run_dirs: list[Path], table: str, comparison: str = ""
+) -> str:
     """``RESULTS.md``: the commands, budgets, seeds and the table; the machines, code
     versions and seed ranges are read from the runs' ``config.yml``."""
     configs = [yaml.safe_load((run_dir / "config.yml").read_text()) for run_dir in run_dirs]
@@ -209,7 +214,16 @@ def results_markdown(budget_name: str, budget: Budget, run_dirs: list[Path], tab
         "",
         "## Table",
         "",
+        "Each run (learned agents: one row per training seed):",
+        "",
         table,
+        "## Pooled over training seeds, and differences",
+        "",
+        "Pooled success with a 95 % bootstrap interval (over layouts and training seeds), each",
+        "seed's success with its Wilson interval, and the GPIS agent's success minus each other",
+        "agent's (`agents/comparison.py`):",
+        "",
+        comparison,
         "![success](results/success.png)",
         "",
         "![steps](results/steps.png)",
@@ -311,11 +325,14 @@ def run(
         address,
         progress_bar,
     )
+    rows, _ = read_episodes_csv(budget.results / "episodes.csv")
+    comparison = comparison_markdown(rows, reference=REFERENCE_AGENT)
     if budget_name == "full":
         path = budget.results.parent / "RESULTS.md"
-        write_results(path, results_markdown(budget_name, budget, run_dirs, table))
+        write_results(path, results_markdown(budget_name, budget, run_dirs, table, comparison))
         print(f"wrote {path}")
     print(table)
+    print(comparison)
     print(f"pipeline took {(time.perf_counter() - started) / 60:.1f} min; see {budget.results}/")
     return budget.results
 

@@ -1,0 +1,101 @@
+"""Pooled results and differences between agents (agents/comparison.py): names split into
+agent and training seed, the bootstrap over layouts and training seeds, the per-seed test."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from agents.comparison import (
+    agent_and_seed,
+    agent_results,
+    beats_in_every_seed,
+    comparison_markdown,
+    difference,
+    pool,
+)
+
+LAYOUTS = range(1_000_000, 1_000_200)
+
+
+def rows_of(name: str, successes: np.ndarray, tips: int = 0) -> list[dict]:
+    return [
+        {
+            "agent": name,
+            "map": "gpis",
+            "seed": layout,
+            "success": bool(s),
+            "tips": tips,
+            "jar_displacement": 0.001,
+        }
+        for layout, s in zip(LAYOUTS, successes, strict=True)
+    ]
+
+
+def learned(label: str, rates: list[float], rng: np.random.Generator) -> list[dict]:
+    rows = []
+    for seed, rate in enumerate(rates):
+        rows += rows_of(f"ppo ({label} map, seed {seed})", rng.random(len(LAYOUTS)) < rate)
+    return rows
+
+
+def test_names_split_into_agent_and_training_seed() -> None:
+    assert agent_and_seed("ppo (gpis map, seed 12)") == ("ppo (gpis map)", 12)
+    assert agent_and_seed("recurrent_ppo (none map, seed 0)") == ("recurrent_ppo (none map)", 0)
+    assert agent_and_seed("ppo (gpis map)") == ("ppo (gpis map)", None)
+    assert agent_and_seed("gpis_planner") == ("gpis_planner", None)
+
+
+def test_a_clear_difference_has_an_interval_around_it_that_excludes_zero() -> None:
+    rng = np.random.default_rng(1)
+    rows = learned("gpis", [0.9, 0.85, 0.9], rng) + learned("none", [0.3, 0.35, 0.3], rng)
+    results = agent_results(rows)
+    diff, low, high = difference(results["ppo (gpis map)"], results["ppo (none map)"], 2000)
+    assert low < diff < high and 0.4 < low and high < 0.75
+    gpis, none = pool(results["ppo (gpis map)"], 2000), pool(results["ppo (none map)"], 2000)
+    assert gpis.training_seeds == (0, 1, 2) and gpis.episodes == 600
+    assert beats_in_every_seed(gpis, none) is True
+    assert beats_in_every_seed(none, gpis) is False
+
+
+def test_the_same_agent_differs_from_itself_by_an_interval_around_zero() -> None:
+    rng = np.random.default_rng(2)
+    rows = learned("gpis", [0.6, 0.6, 0.6], rng)
+    results = agent_results(rows)
+    diff, low, high = difference(results["ppo (gpis map)"], results["ppo (gpis map)"], 2000)
+    assert diff == 0.0 and low <= 0.0 <= high
+
+
+def test_seeds_that_disagree_widen_the_pooled_interval() -> None:
+    steady = agent_results(
+        rows_of("ppo (gpis map, seed 0)", np.arange(200) % 2 == 0)
+        + rows_of("ppo (gpis map, seed 1)", np.arange(200) % 2 == 1)
+    )
+    split = agent_results(
+        rows_of("ppo (gpis map, seed 0)", np.ones(200))
+        + rows_of("ppo (gpis map, seed 1)", np.zeros(200))
+    )
+    a, b = pool(steady["ppo (gpis map)"], 2000), pool(split["ppo (gpis map)"], 2000)
+    assert a.success == b.success == 0.5
+    assert b.spread == 1.0 and a.spread == 0.0
+    assert (b.success_high - b.success_low) > 2 * (a.success_high - a.success_low)
+
+
+def test_the_table_compares_the_reference_with_every_other_agent() -> None:
+    rng = np.random.default_rng(3)
+    rows = learned("gpis", [0.9, 0.9], rng) + rows_of("gpis_planner", rng.random(200) < 0.9)
+    text = comparison_markdown(rows, samples=500)
+    assert "| ppo (gpis map) | 0, 1 | 400 |" in text
+    assert "| gpis_planner | - | 200 |" in text
+    assert "| ppo (gpis map) minus |" in text and "| gpis_planner | " in text
+    with pytest.raises(ValueError, match="reference"):
+        comparison_markdown(rows, reference="nobody", samples=10)
+
+
+def test_layouts_not_met_by_every_seed_are_left_out() -> None:
+    rows = (
+        rows_of("ppo (gpis map, seed 0)", np.ones(200))
+        + rows_of("ppo (gpis map, seed 1)", np.ones(200))[:150]
+    )
+    (results,) = agent_results(rows).values()
+    assert results.success.shape == (2, 150)
