@@ -328,8 +328,12 @@ def code_fingerprints(agent_specs: Sequence[str]) -> dict[str, str]:
         sha = hashlib.sha256(base)
         if spec not in SCRIPTED_AGENTS:
             sha.update(model_digest(Path(spec) / "model.zip"))
-            env_kwargs = evaluation_env_kwargs(read_run_config(Path(spec)))
+            config = read_run_config(Path(spec))
+            env_kwargs = evaluation_env_kwargs(config)
             sha.update(json.dumps(env_kwargs, sort_keys=True, default=str).encode())
+            # Whether its actions are the policy's mode or samples from it.
+            deterministic = config["hyperparams"].get("deterministic_evaluation", True)
+            sha.update(b"deterministic" if deterministic else b"sampled")
         fingerprints[spec] = sha.hexdigest()[:16]
     return fingerprints
 

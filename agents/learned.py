@@ -1,6 +1,7 @@
 """A trained stable-baselines3 model as an evaluation agent (the ``Agent`` protocol of
-``agents/scripted/base.py``): deterministic actions, with the LSTM state carried across
-steps for RecurrentPPO."""
+``agents/scripted/base.py``): the policy's mode, or samples from it seeded per episode when
+the recipe says ``deterministic_evaluation: false``, with the LSTM state carried across steps
+for RecurrentPPO."""
 
 from __future__ import annotations
 
@@ -69,7 +70,7 @@ class LearnedAgent:
     """
 
     def __init__(
-        self, run_dir: Path, name: str | None = None, deterministic: bool = True, seed: int = 0
+        self, run_dir: Path, name: str | None = None, deterministic: bool | None = None
     ) -> None:
         run_dir = Path(run_dir)
         self.config: dict[str, Any] = read_run_config(run_dir)
@@ -83,13 +84,13 @@ class LearnedAgent:
         self.model = load_model(model_path, self.config["algo"])
         self._check_spaces(model_path)
         self._recurrent = self.config["algo"] == "recurrent_ppo"
-        # Stochastic actions sample the policy's Gaussian from torch's generator, seeded
-        # here, so an evaluation (same agents, same order) repeats exactly.
+        # The policy's mode (argmax, mean) or a sample from it: the recipe says which
+        # (``deterministic_evaluation``, default true). Samples come from torch's generator,
+        # seeded with the episode's layout seed at every reset, so an episode's actions do not
+        # depend on the episodes before it (a resumed or sharded evaluation repeats exactly).
+        if deterministic is None:
+            deterministic = bool(self.config["hyperparams"].get("deterministic_evaluation", True))
         self.deterministic = deterministic
-        if not deterministic:
-            import torch
-
-            torch.manual_seed(seed)
         self._state: Any = None
         self._episode_start = np.ones((1,), dtype=bool)
 
@@ -114,6 +115,10 @@ class LearnedAgent:
             env.close()
 
     def reset(self, env: Any, observation: dict, info: dict) -> None:
+        if not self.deterministic:
+            import torch
+
+            torch.manual_seed(env.np_random_seed)
         self._state = None
         self._episode_start = np.ones((1,), dtype=bool)
 

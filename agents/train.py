@@ -59,7 +59,14 @@ ALGORITHMS = ("ppo", "recurrent_ppo")
 # Training layouts are drawn from [2**32, 2**63); evaluation holds out seeds below 2**32.
 TRAIN_LAYOUT_SEEDS = seed_ranges.TRAINING
 # Recipe keys that configure the run rather than the algorithm.
-RUN_KEYS = ("n_timesteps", "max_minutes", "n_envs", "policy", "env_kwargs")
+RUN_KEYS = (
+    "n_timesteps",
+    "max_minutes",
+    "n_envs",
+    "policy",
+    "env_kwargs",
+    "deterministic_evaluation",
+)
 # A checkpoint at the first rollout boundary after every this many env steps (with the
 # recipes' 16 x 128-step rollouts, every 25th rollout: about a minute of training here), and
 # how many of the newest are kept. A checkpoint of the GPIS-map PPO model is ~3 MB.

@@ -262,3 +262,18 @@ def test_a_budget_warm_starts_each_trial_from_its_published_run_when_there_is_on
     full = BUDGETS["full"]
     assert full.warm_start_from is None and full.seeds == (0, 1, 2)
     assert all(trial.init_from is None for trial in trials(full, list(full.seeds)))
+
+
+def test_a_sampling_agent_repeats_each_episode_whatever_ran_before(tmp_path: Path):
+    from agents.learned import LearnedAgent
+    from agents.scripted.rollout import run_episodes
+    from tests.recipes import train_with_recipe
+
+    run_dir = train_with_recipe(tmp_path, "none", deterministic_evaluation=False)
+    agent = LearnedAgent(run_dir)
+    assert agent.deterministic is False  # from the recipe
+    env_kwargs = agent.env_kwargs
+    alone = run_episodes(agent, [1_000_003], **env_kwargs)
+    after_others = run_episodes(agent, [1_000_001, 1_000_002, 1_000_003], **env_kwargs)
+    assert after_others[-1] == alone[0]
+    assert LearnedAgent(run_dir, deterministic=True).deterministic is True
