@@ -262,6 +262,13 @@ class EpisodeSettings(SceneSettings, total=False):
     thinning, m (they are the cupboard, not a jar); 0 keeps every point. Default 0.0. Range
     [0, inf).
     """
+    swept_free_space: float | None
+    """The finger's swept free space as map evidence (not in the paper): after every wrist motion
+    without a tactile reading, the fingertip's point becomes a value observation f = +this (m)
+    in the GPIS map (skipped, as contacts are, where the map is already certain:
+    skip_below_variance) and free evidence in the occupancy map, so the map keeps where the
+    finger has been. None adds nothing (v0). Default None. Range (0, inf).
+    """
     contact_noise_std: float
     """GPIS noise standard deviation of a contact's position, m. Default 0.001. Range [0, inf)."""
     normal_noise_std: float

@@ -56,6 +56,12 @@ settings! {
         /// Depth points closer than this to the side or back walls are left out of the prior
         /// before thinning, m (they are the cupboard, not a jar); 0 keeps every point.
         wall_clearance: f64 = 0.0 => "prior_wall_clearance" in Range::NON_NEGATIVE,
+        /// The finger's swept free space as map evidence (not in the paper): after every
+        /// wrist motion without a tactile reading, the fingertip's point becomes a value
+        /// observation f = +this (m) in the GPIS map (skipped, as contacts are, where the
+        /// map is already certain: skip_below_variance) and free evidence in the occupancy
+        /// map, so the map keeps where the finger has been. None adds nothing (v0).
+        swept_free_space: Option<f64> = None => "swept_free_space" in Range::POSITIVE,
         /// GPIS noise standard deviation of a contact's position, m.
         contact_noise_std: f64 = 0.001 => "contact_noise_std" in Range::NON_NEGATIVE,
         /// GPIS noise standard deviation of each contact-normal component.

@@ -17,7 +17,7 @@ use super::occupancy::OccupancyGrid;
 use super::prior::depth_prior;
 use super::probe::{ActionMode, Phase, ProbeController};
 use super::step_info::StepInfo;
-use crate::gpis::{Gpis, GpisConfig, GridSpec};
+use crate::gpis::{Gpis, GpisConfig, GridSpec, Observation};
 use crate::scene::{Contact, HandCommand, Scene};
 
 /// The target's footprint widened by this much counts as reached by the approach field, m.
@@ -150,13 +150,35 @@ impl Episode {
                 self.iou = None;
             }
         }
+        let swept = self.swept_point(count);
+        if let (Some(occupancy), Some(point)) = (&mut self.occupancy, swept) {
+            occupancy.add_free(point);
+            self.iou = None;
+        }
         let Some(gpis) = &mut self.gpis else {
             return (count, 0, 0, 0);
         };
+        let map = &self.config.map;
+        let mut swept_rows = 0;
+        let mut swept_skipped = 0;
+        if let (Some(point), Some(value)) = (swept, map.swept_free_space) {
+            if gpis.free_rows() >= 1 {
+                let noise = map.depth_noise_std * map.depth_noise_std;
+                let free = Observation::value(0, point, value, noise)
+                    .expect("the fingertip is finite and the noise non-negative");
+                let report = gpis
+                    .add(&[free], Some(map.skip_below_variance))
+                    .expect("a finite point inside the bounds that fits the capacity");
+                swept_rows = report.added_rows;
+                swept_skipped = report.skipped_uninformative + report.rejected_degenerate;
+                if swept_rows > 0 {
+                    self.iou = None;
+                }
+            }
+        }
         let fit = readings.len().min(gpis.free_rows() / 3);
         let points: Vec<[f64; 2]> = readings[..fit].iter().map(|c| c.point).collect();
         let normals: Vec<[f64; 2]> = readings[..fit].iter().map(|c| c.normal).collect();
-        let map = &self.config.map;
         let report = gpis
             .add_contacts(
                 &points,
@@ -169,8 +191,31 @@ impl Episode {
         if report.added_rows > 0 {
             self.iou = None;
         }
-        let skipped = report.skipped_uninformative + report.rejected_degenerate;
-        (count, report.added_rows, skipped, readings.len() - fit)
+        let skipped = report.skipped_uninformative + report.rejected_degenerate + swept_skipped;
+        (
+            count,
+            report.added_rows + swept_rows,
+            skipped,
+            readings.len() - fit,
+        )
+    }
+
+    /// The fingertip, when the map takes swept free space (`swept_free_space`, or any
+    /// occupancy map with it set), the finger read nothing this step (`readings` = 0) and the
+    /// tip is inside the map; else None.
+    fn swept_point(&self, readings: usize) -> Option<[f64; 2]> {
+        self.config.map.swept_free_space?;
+        if readings > 0 {
+            return None;
+        }
+        let finger = self.scene.finger_pose();
+        let tip = fingertip(
+            finger.x,
+            finger.y,
+            finger.yaw,
+            self.config.scene.hand.finger_length,
+        );
+        self.grid.contains(tip).then_some(tip)
     }
 
     /// Metrics of the current state; also returns the displacement added since last call.

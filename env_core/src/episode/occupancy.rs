@@ -130,6 +130,11 @@ impl OccupancyGrid {
         (enter <= leave).then_some((enter, leave))
     }
 
+    /// Free-space evidence at `point` (a place the finger passed without touching).
+    pub fn add_free(&mut self, point: [f64; 2]) {
+        self.add(point, FREE);
+    }
+
     /// A contact at `point` with outward `normal` (unit): occupied behind, free in front.
     pub fn add_contact(&mut self, point: [f64; 2], normal: [f64; 2]) {
         let d = 0.5 * self.cell_size();
