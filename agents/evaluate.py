@@ -165,10 +165,22 @@ def markdown_table(summaries: Sequence[Summary]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def make_agent(spec: str) -> tuple[Any, dict[str, Any]]:
+# How a learned agent picks its actions: as its recipe says (deterministic_evaluation), the
+# policy's mode, or a sample from it (seeded per episode).
+ACTIONS = ("recipe", "mode", "sample")
+
+
+def _deterministic(actions: str) -> bool | None:
+    if actions not in ACTIONS:
+        raise ValueError(f"actions must be one of {ACTIONS}, got {actions!r}")
+    return {"recipe": None, "mode": True, "sample": False}[actions]
+
+
+def make_agent(spec: str, actions: str = "recipe") -> tuple[Any, dict[str, Any]]:
     """An agent and the settings of the env it is evaluated in (with its ``map``) from a
     scripted name (the GPIS map) or a run directory (its recipe's env settings without the
-    reward terms: ``agents.learned.evaluation_env_kwargs``).
+    reward terms: ``agents.learned.evaluation_env_kwargs``), its actions chosen as
+    ``actions`` says (``ACTIONS``).
 
     A scripted agent that takes a ``seed`` (the random agent) is made afresh for every
     episode, seeded with the episode's layout seed (``SeededPerEpisode``)."""
@@ -179,7 +191,7 @@ def make_agent(spec: str) -> tuple[Any, dict[str, Any]]:
         return factory(), {"map": "gpis"}
     from agents.learned import LearnedAgent
 
-    agent = LearnedAgent(Path(spec))
+    agent = LearnedAgent(Path(spec), deterministic=_deterministic(actions))
     return agent, agent.env_kwargs
 
 
@@ -308,7 +320,7 @@ def model_digest(path: Path) -> bytes:
     return sha.digest()
 
 
-def code_fingerprints(agent_specs: Sequence[str]) -> dict[str, str]:
+def code_fingerprints(agent_specs: Sequence[str], actions: str = "recipe") -> dict[str, str]:
     """What produced an agent's rows, per spec: a hash of the installed tactile_search
     package (its Python files and compiled core), the agents' code (``agents/scripted/``,
     which holds the rollout, and ``agents/learned.py``) and, for a learned agent, its
@@ -332,7 +344,9 @@ def code_fingerprints(agent_specs: Sequence[str]) -> dict[str, str]:
             env_kwargs = evaluation_env_kwargs(config)
             sha.update(json.dumps(env_kwargs, sort_keys=True, default=str).encode())
             # Whether its actions are the policy's mode or samples from it.
-            deterministic = config["hyperparams"].get("deterministic_evaluation", True)
+            deterministic = _deterministic(actions)
+            if deterministic is None:
+                deterministic = config["hyperparams"].get("deterministic_evaluation", True)
             sha.update(b"deterministic" if deterministic else b"sampled")
         fingerprints[spec] = sha.hexdigest()[:16]
     return fingerprints
@@ -481,7 +495,11 @@ def reusable_rows(
 
 
 def prepare_evaluation(
-    agent_specs: Sequence[str], out: Path, seeds: Sequence[int], resume: bool
+    agent_specs: Sequence[str],
+    out: Path,
+    seeds: Sequence[int],
+    resume: bool,
+    actions: str = "recipe",
 ) -> tuple[list[tuple[Any, dict[str, Any]]], list[str], dict[str, str], dict]:
     """What an evaluation of ``agent_specs`` on ``seeds`` into ``out`` starts from: each
     agent with its env settings (``make_agent``), their unique names, their fingerprints by
@@ -489,9 +507,9 @@ def prepare_evaluation(
     (name, seed); ``episodes.csv`` is rewritten to hold just those, agents as given, seeds
     ascending."""
     out.mkdir(parents=True, exist_ok=True)
-    made = [make_agent(spec) for spec in agent_specs]
+    made = [make_agent(spec, actions) for spec in agent_specs]
     names = unique_names([agent for agent, _ in made], agent_specs)
-    fingerprints = code_fingerprints(agent_specs)
+    fingerprints = code_fingerprints(agent_specs, actions)
     map_modes = [env_kwargs["map"] for _, env_kwargs in made]
     csv_path = out / "episodes.csv"
     done = (
@@ -515,6 +533,7 @@ def evaluate(
     gif_steps: int = 200,
     torch_threads: int = 1,
     resume: bool = True,
+    actions: str = "recipe",
 ) -> list[Summary]:
     """Runs every agent on the same held-out layouts and writes the table, plots and GIFs.
 
@@ -524,7 +543,8 @@ def evaluate(
     ``agent_specs``: scripted agent names (``random``, ``gpis_planner``, ``oracle``) and run
     directories of ``agents.train``. ``gif_steps`` caps the steps an example GIF shows.
     ``torch_threads``: one thread predicts a single observation fastest (more threads only
-    add synchronisation, and spin against anything else running).
+    add synchronisation, and spin against anything else running). ``actions``: how learned
+    agents act (``ACTIONS``: as each recipe says, the policy's mode, or sampled).
 
     Each episode's row is appended to ``<out>/episodes.csv`` (and flushed) as the episode
     ends. With ``resume`` (the default) the rows already there whose agent, map, held-out
@@ -544,7 +564,7 @@ def evaluate(
         torch.set_num_threads(torch_threads)
     out = Path(out)
     seeds = evaluation_seeds(split, episodes, final)
-    made, names, fingerprints, done = prepare_evaluation(agent_specs, out, seeds, resume)
+    made, names, fingerprints, done = prepare_evaluation(agent_specs, out, seeds, resume, actions)
     csv_path = out / "episodes.csv"
 
     def ordered(name: str) -> list[dict[str, Any]]:
@@ -627,6 +647,13 @@ def main(argv: list[str] | None = None) -> None:
         action="store_true",
         help="run every episode again instead of reusing the rows in --out/episodes.csv",
     )
+    parser.add_argument(
+        "--actions",
+        choices=ACTIONS,
+        default="recipe",
+        help="learned agents' actions: as each recipe says (deterministic_evaluation), the "
+        "policy's mode, or sampled (seeded per episode)",
+    )
     args = parser.parse_args(argv)
     summaries = evaluate(
         [*args.runs, *args.scripted],
@@ -637,6 +664,7 @@ def main(argv: list[str] | None = None) -> None:
         gifs=not args.no_gifs,
         gif_steps=args.gif_steps,
         resume=not args.fresh,
+        actions=args.actions,
     )
     print(markdown_table(summaries))
 

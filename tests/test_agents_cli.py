@@ -277,3 +277,20 @@ def test_a_sampling_agent_repeats_each_episode_whatever_ran_before(tmp_path: Pat
     after_others = run_episodes(agent, [1_000_001, 1_000_002, 1_000_003], **env_kwargs)
     assert after_others[-1] == alone[0]
     assert LearnedAgent(run_dir, deterministic=True).deterministic is True
+
+
+def test_evaluate_actions_override_the_recipe_and_keep_rows_apart(tmp_path: Path):
+    from agents.evaluate import evaluate
+    from tests.recipes import train_with_recipe
+
+    run_dir = train_with_recipe(tmp_path, "none", deterministic_evaluation=False)
+    out = tmp_path / "eval"
+    kwargs = {"out": out, "episodes": 2, "gifs": False}
+    (sampled,) = evaluate([str(run_dir)], **kwargs)
+    (again,) = evaluate([str(run_dir)], actions="sample", **kwargs)  # the recipe's choice
+    assert again == sampled
+    rows = (out / "episodes.csv").read_text()
+    evaluate([str(run_dir)], actions="mode", **kwargs)
+    assert (out / "episodes.csv").read_text() != rows  # another fingerprint: run afresh
+    with pytest.raises(ValueError, match="actions must be one of"):
+        evaluate([str(run_dir)], actions="greedy", **kwargs)
