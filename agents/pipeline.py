@@ -43,7 +43,13 @@ from agents.comparison import comparison_markdown
 from agents.evaluate import evaluate, markdown_table, read_episodes_csv
 from agents.grid import TrainingTrial, train_trial
 from agents.seed_ranges import held_out_seeds
-from agents.train import INTERRUPTED_EXIT_STATUS, code_version, load_hyperparams, run_name
+from agents.train import (
+    INTERRUPTED_EXIT_STATUS,
+    PUBLISHED_RUNS,
+    code_version,
+    load_hyperparams,
+    run_name,
+)
 
 
 @dataclass(frozen=True)
@@ -71,7 +77,7 @@ class Budget:
 
 
 # The documented budget's models (model.zip beside config.yml, one folder per run).
-PUBLISHED_MODELS = Path("docs/results/models")
+PUBLISHED_MODELS = Path(PUBLISHED_RUNS)
 
 BUDGETS = {
     "demo": Budget(

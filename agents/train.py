@@ -55,6 +55,8 @@ os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 ENV_ID = "tactile_search/CupboardSearch-v0"
 HYPERPARAMS_DIR = Path(__file__).parent / "hyperparams"
+# Where the published models are trained (agents.pipeline's full budget), from the repo root.
+PUBLISHED_RUNS = "docs/results/models"
 ALGORITHMS = ("ppo", "recurrent_ppo")
 # Training layouts are drawn from [2**32, 2**63); evaluation holds out seeds below 2**32.
 TRAIN_LAYOUT_SEEDS = seed_ranges.TRAINING
@@ -210,7 +212,7 @@ def code_version(repo: Path | None = None) -> dict[str, Any]:
 
     try:
         commit = git("rev-parse", "HEAD")
-        dirty = bool(git("status", "--porcelain"))
+        dirty = bool(git("status", "--porcelain", "--", ".", f":(exclude){PUBLISHED_RUNS}"))
     except (OSError, subprocess.SubprocessError):
         return {"commit": None, "dirty": None}
     return {"commit": commit, "dirty": dirty}

@@ -17,6 +17,7 @@ pytest.importorskip("sb3_contrib")
 from agents.evaluate import summarize, wilson_interval
 from agents.seed_ranges import held_out_seeds
 from agents.train import (
+    PUBLISHED_RUNS,
     TRAIN_LAYOUT_SEEDS,
     code_version,
     load_hyperparams,
@@ -87,6 +88,10 @@ def test_the_code_version_is_the_checkouts_commit_and_dirty_flag(tmp_path: Path)
     git("add", "recipe.yml")
     git("-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "first")
     assert code_version(tmp_path) == {"commit": git("rev-parse", "HEAD"), "dirty": False}
+    # A run being trained into the published models' folder is not a change of the code.
+    (tmp_path / PUBLISHED_RUNS / "ppo_gpis_seed1").mkdir(parents=True)
+    (tmp_path / PUBLISHED_RUNS / "ppo_gpis_seed1" / "progress.csv").write_text("x\n")
+    assert code_version(tmp_path)["dirty"] is False
     (tmp_path / "recipe.yml").write_text("a: 2\n")
     assert code_version(tmp_path)["dirty"] is True
 
