@@ -2,8 +2,8 @@
 resumes to the same total with its logs intact, an interrupted evaluation resumes without
 redoing episodes, and a broken model directory gets an error naming the file.
 
-The training runs are tiny (PPO without a map, 2 envs x 128 steps per rollout, a checkpoint
-at every rollout) and run as real CLI subprocesses; waits poll with generous limits, so a
+The training runs are tiny (PPO without a map, 2 envs x the recipe's n_steps per rollout, a
+checkpoint at every rollout) and run as real CLI subprocesses; waits poll with generous limits, so a
 loaded machine makes the tests slower, not flaky."""
 
 from __future__ import annotations
@@ -30,10 +30,10 @@ from agents import evaluate as evaluate_module
 from agents.evaluate import EPISODE_COLUMNS, evaluate, read_episodes_csv
 from agents.learned import LearnedAgent
 from agents.seed_ranges import VALIDATION
-from agents.train import checkpoints, main, train
+from agents.train import checkpoints, load_hyperparams, main, train
 
 REPO = Path(__file__).resolve().parents[1]
-ROLLOUT = 2 * 128  # --n-envs 2 x the recipe's n_steps
+ROLLOUT = 2 * load_hyperparams("ppo", "none")["n_steps"]  # --n-envs 2 x the recipe's n_steps
 TOTAL = 16 * ROLLOUT
 SEED = 5
 LIMIT = 600.0  # seconds any wait may take before the test fails
