@@ -29,7 +29,7 @@ import numpy as np
 
 from agents.evaluate import read_episodes_csv, wilson_interval
 
-# "ppo (gpis map, seed 1)" -> agent "ppo (gpis map)", training seed 1.
+# agents.evaluate.seeded_name's form: "ppo (gpis map, seed 1)" -> "ppo (gpis map)", seed 1.
 _WITH_SEED = re.compile(r"^(?P<algo>.+) \((?P<map>[^,()]+) map, seed (?P<seed>\d+)\)$")
 BOOTSTRAP_SAMPLES = 10_000
 # The bootstrap's own generator, fixed so that a table is the same every time it is made.

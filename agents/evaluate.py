@@ -352,6 +352,12 @@ def code_fingerprints(agent_specs: Sequence[str], actions: str = "recipe") -> di
     return fingerprints
 
 
+def seeded_name(algo: str, map_mode: str, seed: int) -> str:
+    """The evaluated name of one training seed's run when an agent has several
+    (``agents.comparison.agent_and_seed`` reads it back)."""
+    return f"{algo} ({map_mode} map, seed {seed})"
+
+
 def unique_names(agents: Sequence[Any], specs: Sequence[str]) -> list[str]:
     """The agents' names, made unique: learned agents of the same algorithm and map (several
     training seeds) get their run's seed in the name."""
@@ -360,7 +366,7 @@ def unique_names(agents: Sequence[Any], specs: Sequence[str]) -> list[str]:
     for i, (agent, spec) in enumerate(zip(agents, specs, strict=True)):
         if given.count(agent.name) > 1 and spec not in SCRIPTED_AGENTS:
             config = agent.config
-            names[i] = f"{config['algo']} ({config['map']} map, seed {config['seed']})"
+            names[i] = seeded_name(config["algo"], config["map"], config["seed"])
     repeated = sorted({name for name in names if names.count(name) > 1})
     if repeated:
         raise ValueError(f"each agent may be evaluated once, got {repeated} more than once")

@@ -99,3 +99,12 @@ def test_layouts_not_met_by_every_seed_are_left_out() -> None:
     )
     (results,) = agent_results(rows).values()
     assert results.success.shape == (2, 150)
+
+
+def test_the_seeded_names_evaluate_writes_are_read_back() -> None:
+    from agents.evaluate import seeded_name
+
+    assert agent_and_seed(seeded_name("recurrent_ppo", "none", 2)) == (
+        "recurrent_ppo (none map)",
+        2,
+    )

@@ -17,6 +17,7 @@ use super::occupancy::OccupancyGrid;
 use super::prior::depth_prior;
 use super::probe::{ActionMode, Phase, ProbeController};
 use super::step_info::StepInfo;
+use crate::gpis::observation::noise_variance;
 use crate::gpis::{Gpis, GpisConfig, GridSpec, Observation};
 use crate::scene::{Contact, HandCommand, Scene};
 
@@ -163,8 +164,8 @@ impl Episode {
         let mut swept_skipped = 0;
         if let (Some(point), Some(value)) = (swept, map.swept_free_space) {
             if gpis.free_rows() >= 1 {
-                let noise = map.depth_noise_std * map.depth_noise_std;
-                let free = Observation::value(0, point, value, noise)
+                let free = noise_variance("depth_noise_std", map.depth_noise_std)
+                    .and_then(|noise| Observation::value(0, point, value, noise))
                     .expect("the fingertip is finite and the noise non-negative");
                 let report = gpis
                     .add(&[free], Some(map.skip_below_variance))
@@ -200,9 +201,9 @@ impl Episode {
         )
     }
 
-    /// The fingertip, when the map takes swept free space (`swept_free_space`, or any
-    /// occupancy map with it set), the finger read nothing this step (`readings` = 0) and the
-    /// tip is inside the map; else None.
+    /// The fingertip, when `swept_free_space` is set (for the GPIS and the occupancy map
+    /// alike), the finger read nothing this step (`readings` = 0) and the tip is inside the
+    /// map; else None.
     fn swept_point(&self, readings: usize) -> Option<[f64; 2]> {
         self.config.map.swept_free_space?;
         if readings > 0 {
