@@ -63,11 +63,11 @@ class CupboardSearchEnv(gym.Env, EzPickle):
     contact (``info["blocked"]``).
 
     With ``action_mode="probe"`` an action is a probe instead: ``MultiDiscrete([probe_lanes,
-    probe_depths, probe_sweeps])`` (default ``[29, 10, 9]``), a lane across the opening, a
+    probe_depths, probe_sweeps])`` (their defaults in the table below), a lane across the opening, a
     wrist depth and a sweep angle of the finger. An observation-only controller in the core
     drives the wrist there, leaving and entering the cupboard only straight along a lane,
-    and stops early when the finger starts touching something on the way in or while
-    sweeping. Every wrist motion it makes is a step of the time limit and of the reward
+    and stops at a touch on the way in or while sweeping, never pressing on into a jar the
+    finger touches. Every wrist motion it makes is a step of the time limit and of the reward
     (the step's reward is their sum; ``info["motions"]`` counts them). An index outside
     its count raises ``ValueError``. The same option serves every map mode.
 
