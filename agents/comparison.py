@@ -5,7 +5,8 @@ trained with several seeds appears once per seed (``ppo (gpis map, seed 1)``). H
 
 - ``pool``: per agent, the success pooled over its training seeds and layouts, a 95 %
   bootstrap interval of it, each seed's success and the spread across seeds (max - min);
-  tips and jar displacement per episode;
+  tips, time-outs and jar displacement per episode (an episode ends when the target is
+  touched, when a jar tips, or at the time limit: a failure without a tip is a time-out);
 - ``difference``: agent A's pooled success minus agent B's, with a 95 % bootstrap interval
   over layouts and training seeds: each resample draws the layouts with replacement (the
   same layouts for both agents: every agent meets the same ones, so the comparison is
@@ -54,6 +55,7 @@ class AgentResults:
     layouts: tuple[int, ...]
     success: np.ndarray  # (seeds, layouts) of 0/1
     tips: np.ndarray  # (seeds, layouts) of 0/1 (an episode with a tip)
+    timeouts: np.ndarray  # (seeds, layouts) of 0/1 (neither success nor tip: the time limit)
     displacement_mm: np.ndarray  # (seeds, layouts)
 
     def restricted(self, layouts: Sequence[int]) -> AgentResults:
@@ -63,6 +65,7 @@ class AgentResults:
             layouts=tuple(layouts),
             success=self.success[:, index],
             tips=self.tips[:, index],
+            timeouts=self.timeouts[:, index],
             displacement_mm=self.displacement_mm[:, index],
         )
 
@@ -92,6 +95,7 @@ def agent_results(rows: Sequence[dict[str, Any]]) -> dict[str, AgentResults]:
             layouts=layouts,
             success=matrix(lambda r: float(r["success"])),
             tips=matrix(lambda r: float(int(r["tips"]) > 0)),
+            timeouts=matrix(lambda r: float(not r["success"] and int(r["tips"]) == 0)),
             displacement_mm=matrix(lambda r: 1000.0 * float(r["jar_displacement"])),
         )
     return results
@@ -127,6 +131,7 @@ class Pooled:
     per_seed: tuple[tuple[int | None, float, float, float], ...]  # seed, rate, Wilson low, high
     spread: float  # max - min of the per-seed success rates
     tip_rate: float
+    timeout_rate: float
     displacement_mm: float
 
 
@@ -150,6 +155,7 @@ def pool(results: AgentResults, samples: int = BOOTSTRAP_SAMPLES) -> Pooled:
         per_seed=tuple(per_seed),
         spread=max(rates) - min(rates),
         tip_rate=float(results.tips.mean()),
+        timeout_rate=float(results.timeouts.mean()),
         displacement_mm=float(results.displacement_mm.mean()),
     )
 
@@ -203,15 +209,17 @@ def comparison_markdown(
         raise ValueError(f"reference must be one of {sorted(results)}, got {reference!r}")
     lines = [
         "| agent | training seeds | episodes | success, pooled | 95 % CI (bootstrap) "
-        "| spread across seeds | episodes with a tip | jar displacement (mm per episode) |",
-        "|---|---|---|---|---|---|---|---|",
+        "| spread across seeds | episodes with a tip | episodes timed out "
+        "| jar displacement (mm per episode) |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for p in pooled.values():
         seeds = ", ".join(_seed_text(s) for s in p.training_seeds)
         lines.append(
             f"| {p.agent} | {seeds} | {p.episodes} | {_percent(p.success)} "
             f"| [{_percent(p.success_low)}, {_percent(p.success_high)}] "
-            f"| {_percent(p.spread)} | {_percent(p.tip_rate)} | {p.displacement_mm:.1f} |"
+            f"| {_percent(p.spread)} | {_percent(p.tip_rate)} | {_percent(p.timeout_rate)} "
+            f"| {p.displacement_mm:.1f} |"
         )
     lines += [
         "",

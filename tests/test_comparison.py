@@ -108,3 +108,14 @@ def test_the_seeded_names_evaluate_writes_are_read_back() -> None:
         "recurrent_ppo (none map)",
         2,
     )
+
+
+def test_a_failure_without_a_tip_counts_as_a_time_out() -> None:
+    # An episode ends at success, at a tip, or at the time limit: of four layouts, one
+    # success, one failure ended by a tip, two failures that ran out of time.
+    rows = rows_of("ppo (gpis map, seed 0)", np.array([1, 0, 0, 0] * 50))
+    for row in rows[1::4]:
+        row["tips"] = 1
+    pooled = pool(agent_results(rows)["ppo (gpis map)"], 200)
+    assert pooled.success == 0.25 and pooled.tip_rate == 0.25 and pooled.timeout_rate == 0.5
+    assert "| 25.0% | 50.0% |" in comparison_markdown(rows, samples=200)
