@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from agents.evaluate import read_episodes_csv, wilson_interval
+from agents.learned import learned_agent_name
 
 # agents.evaluate.seeded_name's form: "ppo (gpis map, seed 1)" -> "ppo (gpis map)", seed 1.
 _WITH_SEED = re.compile(r"^(?P<algo>.+) \((?P<map>[^,()]+) map, seed (?P<seed>\d+)\)$")
@@ -43,7 +44,7 @@ def agent_and_seed(name: str) -> tuple[str, int | None]:
     match = _WITH_SEED.match(name)
     if match is None:
         return name, None
-    return f"{match['algo']} ({match['map']} map)", int(match["seed"])
+    return learned_agent_name(match["algo"], match["map"]), int(match["seed"])
 
 
 @dataclasses.dataclass(frozen=True)

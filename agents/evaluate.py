@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 
 import tactile_search  # also registers the environment
-from agents.learned import evaluation_env_kwargs
+from agents.learned import evaluation_env_kwargs, learned_agent_name
 from agents.scripted import SCRIPTED_AGENTS
 from agents.scripted.rollout import run_episodes
 from agents.seed_ranges import SPLITS, held_out_seeds
@@ -420,14 +420,27 @@ def read_progress(run_dir: Path) -> dict[str, np.ndarray]:
     return {"timesteps": np.array(timesteps), "success_rate": np.array(success)}
 
 
-def plot_learning_curves(path: Path, runs: dict[str, Path]) -> None:
-    """Training success rate (last 100 episodes) against timesteps, per learned agent."""
+def plot_learning_curves(path: Path, runs: dict[str, Path]) -> list[str]:
+    """Training success rate (last 100 episodes) against timesteps, per learned run: an
+    agent's training seeds share a colour (one legend entry per agent). Returns the legend's
+    entries."""
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(6, 3.6))
-    for name, run_dir in runs.items():
+    colours: dict[str, Any] = {}
+    for run_dir in runs.values():
+        config = read_run_config(run_dir)
+        agent = learned_agent_name(config["algo"], config["map"])
         curve = read_progress(run_dir)
-        ax.plot(curve["timesteps"], curve["success_rate"], label=name)
+        first = agent not in colours
+        colours.setdefault(agent, f"C{len(colours) % 10}")
+        ax.plot(
+            curve["timesteps"],
+            curve["success_rate"],
+            color=colours[agent],
+            alpha=0.8,
+            label=agent if first else None,
+        )
     ax.set_xlabel("training timesteps")
     ax.set_ylabel("success rate (last 100 episodes)")
     ax.set_ylim(0, 1.05)
@@ -436,6 +449,7 @@ def plot_learning_curves(path: Path, runs: dict[str, Path]) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
+    return list(colours)
 
 
 def record_gif(

@@ -56,6 +56,11 @@ def load_model(model_path: Path, algo: str) -> Any:
         ) from err
 
 
+def learned_agent_name(algo: str, map_mode: str) -> str:
+    """A learned agent's name in tables and plots: ``ppo (gpis map)``."""
+    return f"{algo} ({map_mode} map)"
+
+
 class LearnedAgent:
     """The model in ``run_dir`` (``model.zip`` beside the ``config.yml`` that trained it).
 
@@ -80,7 +85,7 @@ class LearnedAgent:
         self.map_mode: str = self.config["map"]
         #: The settings of the env this agent is evaluated in (``evaluation_env_kwargs``).
         self.env_kwargs: dict[str, Any] = evaluation_env_kwargs(self.config)
-        self.name = name or f"{self.config['algo']} ({self.map_mode} map)"
+        self.name = name or learned_agent_name(self.config["algo"], self.map_mode)
         self.model = load_model(model_path, self.config["algo"])
         self._check_spaces(model_path)
         self._recurrent = self.config["algo"] == "recurrent_ppo"

@@ -42,6 +42,7 @@ import yaml
 from agents.comparison import comparison_markdown
 from agents.evaluate import evaluate, markdown_table, read_episodes_csv
 from agents.grid import TrainingTrial, train_trial
+from agents.learned import learned_agent_name
 from agents.seed_ranges import held_out_seeds
 from agents.train import (
     INTERRUPTED_EXIT_STATUS,
@@ -104,7 +105,7 @@ BUDGETS = {
 }
 SCRIPTED = ("random", "gpis_planner", "oracle")
 # The agent every other is compared with.
-REFERENCE_AGENT = "ppo (gpis map)"
+REFERENCE_AGENT = learned_agent_name("ppo", "gpis")
 
 
 SCHEDULERS = ("ray", "local")
