@@ -15,7 +15,8 @@ trained with (scripted agents use the GPIS map). Writes to ``--out``:
   as median and quartiles, jar displacement, tips, final map IoU);
 - ``episodes.csv``: one row per agent and episode, each written as soon as its episode ends;
 - ``success.png``, ``steps.png``, ``learning_curves.png`` (from each run's ``progress.csv``);
-- ``gifs/<agent>.gif``: one example episode per agent (the first held-out seed).
+- ``gifs/<agent>.gif``: one example episode per agent (the first held-out seed; of a learned
+  agent trained with several seeds, the first of its runs given).
 
 An interrupted evaluation resumes: run the same command again and the rows already in
 ``episodes.csv`` are reused, only the missing (agent, seed) episodes run, and the files
@@ -592,6 +593,7 @@ def evaluate(
 
     summaries, all_episodes = [], []
     runs: dict[str, Path] = {}
+    shown: set[str] = set()  # the agents with a GIF: one per agent, not per training seed
     with csv_path.open("a", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(EPISODE_COLUMNS))
         for spec, name, (agent, env_kwargs) in zip(agent_specs, names, made, strict=True):
@@ -617,8 +619,12 @@ def evaluate(
             all_episodes.append(results)
             if spec not in SCRIPTED_AGENTS:
                 runs[name] = Path(spec)
-            if gifs:
-                file_name = name.replace(" ", "_").replace("(", "").replace(")", "")
+            subject = name
+            if spec not in SCRIPTED_AGENTS:
+                subject = learned_agent_name(agent.config["algo"], agent.config["map"])
+            if gifs and subject not in shown:
+                shown.add(subject)
+                file_name = subject.replace(" ", "_").replace("(", "").replace(")", "")
                 file_name = file_name.replace(",", "")
                 gif_path = out / "gifs" / f"{file_name}.gif"
                 if not (reused and gif_path.is_file()):

@@ -314,3 +314,27 @@ def test_learning_curves_give_an_agents_training_seeds_one_legend_entry(
     legend = plot_learning_curves(tmp_path / "curves.png", runs)
     assert legend == ["ppo (gpis map)", "recurrent_ppo (none map)"]
     assert (tmp_path / "curves.png").stat().st_size > 0
+
+
+def test_an_agent_trained_with_several_seeds_gets_one_example_gif(
+    trained_runs: dict[str, Path], tmp_path: Path
+):
+    import shutil
+
+    from agents.evaluate import evaluate
+
+    second_seed = tmp_path / "ppo_gpis_seed4"
+    shutil.copytree(trained_runs["ppo"], second_seed)
+    config = yaml.safe_load((second_seed / "config.yml").read_text())
+    config["seed"] = 4
+    (second_seed / "config.yml").write_text(yaml.safe_dump(config))
+    out = tmp_path / "results"
+    evaluate(
+        [str(trained_runs["ppo"]), str(second_seed), "random"], out=out, episodes=1, gif_steps=2
+    )
+    assert sorted(p.name for p in (out / "gifs").glob("*.gif")) == [
+        "ppo_gpis_map.gif",
+        "random.gif",
+    ]
+    table = (out / "results.md").read_text()
+    assert "| ppo (gpis map, seed 3) |" in table and "| ppo (gpis map, seed 4) |" in table
