@@ -6,7 +6,8 @@ trained with several seeds appears once per seed (``ppo (gpis map, seed 1)``). H
 - ``pool``: per agent, the success pooled over its training seeds and layouts, a 95 %
   bootstrap interval of it, each seed's success and the spread across seeds (max - min);
   tips, time-outs and jar displacement per episode (an episode ends when the target is
-  touched, when a jar tips, or at the time limit: a failure without a tip is a time-out);
+  touched, when a jar tips, or at the time limit: a failure without a tip is a time-out),
+  and the wrist motions an action costs (the time limit counts motions; a probe is many);
 - ``difference``: agent A's pooled success minus agent B's, with a 95 % bootstrap interval
   over layouts and training seeds: each resample draws the layouts with replacement (the
   same layouts for both agents: every agent meets the same ones, so the comparison is
@@ -58,6 +59,8 @@ class AgentResults:
     tips: np.ndarray  # (seeds, layouts) of 0/1 (an episode with a tip)
     timeouts: np.ndarray  # (seeds, layouts) of 0/1 (neither success nor tip: the time limit)
     displacement_mm: np.ndarray  # (seeds, layouts)
+    motions: np.ndarray  # (seeds, layouts): wrist motions (the env's steps)
+    actions: np.ndarray  # (seeds, layouts): the agent's actions (a probe, or a motion)
 
     def restricted(self, layouts: Sequence[int]) -> AgentResults:
         index = [self.layouts.index(seed) for seed in layouts]
@@ -68,6 +71,8 @@ class AgentResults:
             tips=self.tips[:, index],
             timeouts=self.timeouts[:, index],
             displacement_mm=self.displacement_mm[:, index],
+            motions=self.motions[:, index],
+            actions=self.actions[:, index],
         )
 
 
@@ -98,6 +103,8 @@ def agent_results(rows: Sequence[dict[str, Any]]) -> dict[str, AgentResults]:
             tips=matrix(lambda r: float(int(r["tips"]) > 0)),
             timeouts=matrix(lambda r: float(not r["success"] and int(r["tips"]) == 0)),
             displacement_mm=matrix(lambda r: 1000.0 * float(r["jar_displacement"])),
+            motions=matrix(lambda r: float(r["steps"])),
+            actions=matrix(lambda r: float(r["actions"])),
         )
     return results
 
@@ -134,6 +141,7 @@ class Pooled:
     tip_rate: float
     timeout_rate: float
     displacement_mm: float
+    motions_per_action: float
 
 
 def pool(results: AgentResults, samples: int = BOOTSTRAP_SAMPLES) -> Pooled:
@@ -158,6 +166,7 @@ def pool(results: AgentResults, samples: int = BOOTSTRAP_SAMPLES) -> Pooled:
         tip_rate=float(results.tips.mean()),
         timeout_rate=float(results.timeouts.mean()),
         displacement_mm=float(results.displacement_mm.mean()),
+        motions_per_action=float(results.motions.sum() / max(results.actions.sum(), 1.0)),
     )
 
 
@@ -211,8 +220,8 @@ def comparison_markdown(
     lines = [
         "| agent | training seeds | episodes | success, pooled | 95 % CI (bootstrap) "
         "| spread across seeds | episodes with a tip | episodes timed out "
-        "| jar displacement (mm per episode) |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| jar displacement (mm per episode) | wrist motions per action |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for p in pooled.values():
         seeds = ", ".join(_seed_text(s) for s in p.training_seeds)
@@ -220,7 +229,7 @@ def comparison_markdown(
             f"| {p.agent} | {seeds} | {p.episodes} | {_percent(p.success)} "
             f"| [{_percent(p.success_low)}, {_percent(p.success_high)}] "
             f"| {_percent(p.spread)} | {_percent(p.tip_rate)} | {_percent(p.timeout_rate)} "
-            f"| {p.displacement_mm:.1f} |"
+            f"| {p.displacement_mm:.1f} | {p.motions_per_action:.1f} |"
         )
     lines += [
         "",

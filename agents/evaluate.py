@@ -221,6 +221,7 @@ EPISODE_COLUMNS: dict[str, type] = {
     "seed": int,
     "success": bool,
     "steps": int,
+    "actions": int,
     "tips": int,
     "jar_displacement": float,
     "max_jar_displacement": float,

@@ -27,6 +27,8 @@ def rows_of(name: str, successes: np.ndarray, tips: int = 0) -> list[dict]:
             "success": bool(s),
             "tips": tips,
             "jar_displacement": 0.001,
+            "steps": 120,
+            "actions": 4,
         }
         for layout, s in zip(LAYOUTS, successes, strict=True)
     ]
@@ -118,4 +120,4 @@ def test_a_failure_without_a_tip_counts_as_a_time_out() -> None:
         row["tips"] = 1
     pooled = pool(agent_results(rows)["ppo (gpis map)"], 200)
     assert pooled.success == 0.25 and pooled.tip_rate == 0.25 and pooled.timeout_rate == 0.5
-    assert "| 25.0% | 50.0% |" in comparison_markdown(rows, samples=200)
+    assert "| 25.0% | 50.0% | 1.0 | 30.0 |" in comparison_markdown(rows, samples=200)

@@ -21,7 +21,9 @@ def run_episodes(
 
     ``max_steps`` (at most this many agent steps) defaults to the env's ``max_steps`` (the
     registered time limit, which the env enforces itself). Each dict: seed, success, steps
-    (wrist motions), tips, jar_displacement, max_jar_displacement, iou (final), reward.
+    (wrist motions), actions (the agent's steps: a probe each in the probe action mode, a
+    wrist motion in the wrist mode), tips, jar_displacement, max_jar_displacement, iou
+    (final), reward.
     ``on_step(env, step, done)``, if given, is called after the reset (step 0) and after
     every step (``done``: the episode's last), e.g. to render frames. ``on_episode(result)``,
     if given, is called with each episode's summary as soon as the episode ends (e.g. to write
@@ -50,6 +52,7 @@ def run_episodes(
             "seed": seed,
             "success": bool(info["success"]),
             "steps": int(info["steps"]),
+            "actions": step,
             "tips": int(info["tips"]),
             "jar_displacement": float(info["jar_displacement"]),
             "max_jar_displacement": float(info["max_jar_displacement"]),
