@@ -44,7 +44,7 @@ from typing import Any
 import numpy as np
 
 import tactile_search  # also registers the environment
-from agents.learned import evaluation_env_kwargs, learned_agent_name
+from agents.learned import evaluation_env_kwargs
 from agents.scripted import SCRIPTED_AGENTS
 from agents.scripted.rollout import run_episodes
 from agents.seed_ranges import SPLITS, held_out_seeds
@@ -422,20 +422,18 @@ def read_progress(run_dir: Path) -> dict[str, np.ndarray]:
     return {"timesteps": np.array(timesteps), "success_rate": np.array(success)}
 
 
-def plot_learning_curves(path: Path, runs: dict[str, Path]) -> list[str]:
-    """Training success rate (last 100 episodes) against timesteps, per learned run: an
-    agent's training seeds share a colour (one legend entry per agent). Returns the legend's
-    entries."""
+def plot_learning_curves(path: Path, runs: Sequence[tuple[str, Path]]) -> list[str]:
+    """Training success rate (last 100 episodes) against timesteps, per learned run, given
+    as (agent, run directory): an agent's training seeds share a colour (one legend entry per
+    agent). Returns the legend's entries."""
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(6, 3.6))
-    colours: dict[str, Any] = {}
-    for run_dir in runs.values():
-        config = read_run_config(run_dir)
-        agent = learned_agent_name(config["algo"], config["map"])
-        curve = read_progress(run_dir)
+    colours: dict[str, str] = {}
+    for agent, run_dir in runs:
         first = agent not in colours
         colours.setdefault(agent, f"C{len(colours) % 10}")
+        curve = read_progress(run_dir)
         ax.plot(
             curve["timesteps"],
             curve["success_rate"],
@@ -593,7 +591,7 @@ def evaluate(
         return [done[name, seed] for seed in seeds if (name, seed) in done]
 
     summaries, all_episodes = [], []
-    runs: dict[str, Path] = {}
+    runs: list[tuple[str, Path]] = []  # (agent, run directory) of each learned run
     shown: set[str] = set()  # the agents with a GIF: one per agent, not per training seed
     with csv_path.open("a", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(EPISODE_COLUMNS))
@@ -618,14 +616,12 @@ def evaluate(
             results = ordered(name)
             summaries.append(summarize(name, map_mode, results))
             all_episodes.append(results)
+            # agent.name: the agent without its training seed (unique_names adds it to name)
             if spec not in SCRIPTED_AGENTS:
-                runs[name] = Path(spec)
-            subject = name
-            if spec not in SCRIPTED_AGENTS:
-                subject = learned_agent_name(agent.config["algo"], agent.config["map"])
-            if gifs and subject not in shown:
-                shown.add(subject)
-                file_name = subject.replace(" ", "_").replace("(", "").replace(")", "")
+                runs.append((agent.name, Path(spec)))
+            if gifs and agent.name not in shown:
+                shown.add(agent.name)
+                file_name = agent.name.replace(" ", "_").replace("(", "").replace(")", "")
                 file_name = file_name.replace(",", "")
                 gif_path = out / "gifs" / f"{file_name}.gif"
                 if not (reused and gif_path.is_file()):

@@ -304,13 +304,13 @@ def test_evaluate_actions_override_the_recipe_and_keep_rows_apart(tmp_path: Path
 def test_learning_curves_give_an_agents_training_seeds_one_legend_entry(
     trained_runs: dict[str, Path], tmp_path: Path
 ):
-    import shutil
-
     from agents.evaluate import plot_learning_curves
 
-    second_seed = tmp_path / "ppo_gpis_seed4"
-    shutil.copytree(trained_runs["ppo"], second_seed)
-    runs = {"a": trained_runs["ppo"], "b": second_seed, "c": trained_runs["recurrent_ppo"]}
+    runs = [
+        ("ppo (gpis map)", trained_runs["ppo"]),
+        ("ppo (gpis map)", trained_runs["ppo"]),  # a second training seed's curve
+        ("recurrent_ppo (none map)", trained_runs["recurrent_ppo"]),
+    ]
     legend = plot_learning_curves(tmp_path / "curves.png", runs)
     assert legend == ["ppo (gpis map)", "recurrent_ppo (none map)"]
     assert (tmp_path / "curves.png").stat().st_size > 0
