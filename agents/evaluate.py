@@ -22,7 +22,8 @@ An interrupted evaluation resumes: run the same command again and the rows alrea
 ``episodes.csv`` are reused, only the missing (agent, seed) episodes run, and the files
 come out as an uninterrupted run writes them. A row is reused only if its ``fingerprint``
 (a hash of the installed tactile_search package, the agents' code and, for a learned agent,
-its model's contents) matches; ``--fresh`` runs everything again.
+its model's contents) matches, and a GIF only if the provenance stored in it does;
+``--fresh`` runs everything again.
 """
 
 from __future__ import annotations
@@ -459,10 +460,11 @@ def record_gif(
     seed: int,
     max_steps: int = 200,
     stride: int = 2,
+    drawn_by: str | None = None,
 ) -> None:
     """The first ``max_steps`` steps of ``agent`` on layout ``seed`` in the env of
     ``env_kwargs`` as a GIF, one frame every ``stride`` steps plus the last (a frame takes
-    ~0.2 s to draw)."""
+    ~0.2 s to draw); ``drawn_by`` (``gif_provenance``) is stored in the GIF's comment."""
     from tactile_search.render import save_gif
 
     frames: list[np.ndarray] = []
@@ -476,8 +478,28 @@ def record_gif(
     )
     # Through a temporary file: a GIF that exists is a whole one.
     tmp = path.with_name(f"{path.stem}.tmp.gif")
-    save_gif(frames, tmp)
+    save_gif(frames, tmp, comment=drawn_by)
     os.replace(tmp, path)
+
+
+def gif_provenance(fingerprint: str, seed: int, max_steps: int) -> str:
+    """What an example GIF shows, as stored in its comment: the agent's fingerprint
+    (``code_fingerprints``), the layout and the steps shown. A GIF is kept only if its
+    comment says the same (``gif_drawn_by``), so a GIF left by other code is drawn again."""
+    return f"tactile_search example: fingerprint {fingerprint}, layout {seed}, {max_steps} steps"
+
+
+def gif_drawn_by(path: Path) -> str | None:
+    """The provenance stored in the GIF at ``path`` (``record_gif``), or None if there is no
+    such GIF or it stores none."""
+    from PIL import Image
+
+    try:
+        with Image.open(path) as image:
+            comment = image.info.get("comment")
+    except (OSError, ValueError):  # missing, or not an image
+        return None
+    return comment.decode(errors="replace") if isinstance(comment, bytes) else None
 
 
 def reusable_rows(
@@ -569,8 +591,9 @@ def evaluate(
     Each episode's row is appended to ``<out>/episodes.csv`` (and flushed) as the episode
     ends. With ``resume`` (the default) the rows already there whose agent, map, held-out
     seed and fingerprint (``code_fingerprints``) match are reused and only the other
-    episodes run; the other rows are dropped. An agent's GIF is kept if it exists and some
-    of the agent's rows were reused (it was drawn by the same code), otherwise drawn. At the
+    episodes run; the other rows are dropped. An agent's GIF is kept if its stored
+    provenance (``gif_provenance``: the same fingerprint, layout and length) matches,
+    otherwise drawn (always drawn without ``resume``). At the
     end ``episodes.csv`` is rewritten in the order an uninterrupted run writes it (agents as
     given, seeds ascending), so a resumed evaluation's files equal an uninterrupted one's.
     """
@@ -596,7 +619,6 @@ def evaluate(
     with csv_path.open("a", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(EPISODE_COLUMNS))
         for spec, name, (agent, env_kwargs) in zip(agent_specs, names, made, strict=True):
-            reused = bool(ordered(name))
             map_mode = env_kwargs["map"]
 
             def keep(
@@ -624,9 +646,17 @@ def evaluate(
                 file_name = agent.name.replace(" ", "_").replace("(", "").replace(")", "")
                 file_name = file_name.replace(",", "")
                 gif_path = out / "gifs" / f"{file_name}.gif"
-                if not (reused and gif_path.is_file()):
+                provenance = gif_provenance(fingerprints[spec], seeds[0], gif_steps)
+                if not resume or gif_drawn_by(gif_path) != provenance:
                     gif_path.parent.mkdir(exist_ok=True)
-                    record_gif(gif_path, agent, env_kwargs, seeds[0], max_steps=gif_steps)
+                    record_gif(
+                        gif_path,
+                        agent,
+                        env_kwargs,
+                        seeds[0],
+                        max_steps=gif_steps,
+                        drawn_by=provenance,
+                    )
             print(markdown_table(summaries[-1:]).splitlines()[-1], flush=True)
     write_episodes_csv(csv_path, [row for name in names for row in ordered(name)])
     table = markdown_table(summaries)

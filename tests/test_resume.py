@@ -21,13 +21,21 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 import yaml
+from PIL import Image
 
 pytest.importorskip("stable_baselines3")
 
 from agents import evaluate as evaluate_module
-from agents.evaluate import EPISODE_COLUMNS, evaluate, read_episodes_csv
+from agents.evaluate import (
+    EPISODE_COLUMNS,
+    evaluate,
+    gif_drawn_by,
+    gif_provenance,
+    read_episodes_csv,
+)
 from agents.learned import LearnedAgent
 from agents.seed_ranges import VALIDATION
 from agents.train import checkpoints, load_hyperparams, main, train
@@ -265,6 +273,30 @@ def test_an_interrupted_evaluation_resumes_without_redoing_episodes(tmp_path, mo
     _evaluate(resumed, agents)
     assert ran == [("random", first)]
     assert (resumed / "episodes.csv").read_bytes() == (whole / "episodes.csv").read_bytes()
+
+
+def test_an_example_gif_left_by_other_code_is_drawn_again(tmp_path):
+    from tactile_search.render import save_gif
+
+    out = tmp_path / "eval"
+    _evaluate(out, ["random"], episodes=1)
+    gif = out / "gifs" / "random.gif"
+    ((row,), _) = read_episodes_csv(out / "episodes.csv")
+    expected = gif_provenance(row["fingerprint"], VALIDATION[0], 4)
+    assert gif_drawn_by(gif) == expected
+
+    # Another evaluation's GIF in its place, beside rows that are all reused: drawn again.
+    save_gif([np.zeros((4, 4, 3), np.uint8)], gif, comment="drawn by other code")
+    _evaluate(out, ["random"], episodes=1)
+    assert gif_drawn_by(gif) == expected
+    with Image.open(gif) as image:
+        assert image.size != (4, 4)
+
+    # Its own GIF is kept.
+    drawn_at = gif.stat().st_mtime_ns
+    _evaluate(out, ["random"], episodes=1)
+    assert gif.stat().st_mtime_ns == drawn_at
+    assert gif_drawn_by(tmp_path / "missing.gif") is None
 
 
 # Model directories

@@ -180,8 +180,12 @@ def render_frame(state: dict[str, Any], map_mode: str) -> np.ndarray:
     return np.concatenate(parts, axis=1)
 
 
-def save_gif(frames: list[np.ndarray], path: str | Path, fps: int = 10) -> Path:
-    """Writes ``frames`` (RGB arrays) to a GIF with matplotlib's Pillow writer."""
+def save_gif(
+    frames: list[np.ndarray], path: str | Path, fps: int = 10, comment: str | None = None
+) -> Path:
+    """Writes ``frames`` (RGB arrays) to a GIF with matplotlib's Pillow writer; ``comment``,
+    if given, is stored in the GIF (Pillow reads it back as ``Image.open(path).info``'s
+    ``comment``)."""
     _matplotlib()
     from PIL import Image
 
@@ -190,5 +194,8 @@ def save_gif(frames: list[np.ndarray], path: str | Path, fps: int = 10) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     images = [Image.fromarray(frame) for frame in frames]
-    images[0].save(path, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
+    extra = {} if comment is None else {"comment": comment.encode()}
+    images[0].save(
+        path, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0, **extra
+    )
     return path
