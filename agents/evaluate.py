@@ -50,6 +50,7 @@ from agents.scripted import SCRIPTED_AGENTS
 from agents.scripted.rollout import run_episodes
 from agents.seed_ranges import SPLITS, held_out_seeds
 from agents.train import read_run_config, write_atomically
+from tactile_search import CupboardSearchEnv
 
 # The z of a two-sided 95 % interval.
 Z_95 = 1.959963984540054
@@ -463,19 +464,47 @@ def record_gif(
     drawn_by: str | None = None,
 ) -> None:
     """The first ``max_steps`` steps of ``agent`` on layout ``seed`` in the env of
-    ``env_kwargs`` as a GIF, one frame every ``stride`` steps plus the last (a frame takes
-    ~0.2 s to draw); ``drawn_by`` (``gif_provenance``) is stored in the GIF's comment."""
+    ``env_kwargs`` as a GIF, one frame every ``stride`` wrist motions plus the last (a frame
+    takes ~0.2 s to draw); ``drawn_by`` (``gif_provenance``) is stored in the GIF's comment.
+
+    In the ``probe`` action mode a step is many wrist motions: a ``wrist``-mode twin of the
+    env, reset to the same layout, replays each step's motions (``last_motions``) so that
+    the GIF shows the finger moving, not only where each probe ends."""
     from tactile_search.render import save_gif
 
     frames: list[np.ndarray] = []
+    twin: CupboardSearchEnv | None = None
+    motions_drawn = 0  # wrist motions so far
 
-    def capture(env: Any, step: int, done: bool) -> None:
-        if step % stride == 0 or done:
-            frames.append(env.render())
+    def capture(env: CupboardSearchEnv, step: int, done: bool) -> None:
+        nonlocal twin, motions_drawn
+        if env.config.action_mode == "wrist":
+            if step % stride == 0 or done:
+                frames.append(env.render())
+            return
+        if step == 0:
+            wrist = {**env_kwargs, "action_mode": "wrist"}
+            twin = CupboardSearchEnv(render_mode="rgb_array", **wrist)
+            twin.reset(seed=seed)
+            frames.append(twin.render())
+            return
+        assert twin is not None
+        motions = env.last_motions()
+        for i, motion in enumerate(motions):
+            twin.step(motion)
+            motions_drawn += 1
+            if motions_drawn % stride == 0 or (done and i == len(motions) - 1):
+                frames.append(twin.render())
+        if twin.render_state()["hand"] != env.render_state()["hand"]:
+            raise RuntimeError(
+                f"the wrist-mode replay of layout {seed} left the probe's path at step {step}"
+            )
 
     run_episodes(
         agent, [seed], max_steps=max_steps, on_step=capture, render_mode="rgb_array", **env_kwargs
     )
+    if twin is not None:
+        twin.close()
     # Through a temporary file: a GIF that exists is a whole one.
     tmp = path.with_name(f"{path.stem}.tmp.gif")
     save_gif(frames, tmp, comment=drawn_by)

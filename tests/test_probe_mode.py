@@ -150,3 +150,39 @@ def test_an_evaluation_episode_ends_at_the_envs_own_time_limit_in_the_probe_mode
     assert result["steps"] <= 200
     assert result["success"] or result["tips"] or result["steps"] == 200
     assert agent.calls < 50
+
+
+def test_a_probes_motions_replayed_in_the_wrist_mode_reproduce_it() -> None:
+    probing = CupboardSearchEnv(action_mode="probe", map="gpis")
+    moving = CupboardSearchEnv(action_mode="wrist", map="gpis")
+    for env in (probing, moving):
+        env.reset(seed=1_000_005)
+    assert probing.last_motions().shape == (0, 3)
+    rng = np.random.default_rng(5)
+    for _ in range(4):
+        observation, _, terminated, truncated, info = probing.step(
+            rng.integers(probing.action_space.nvec)
+        )
+        motions = probing.last_motions()
+        assert motions.shape == (info["motions"], 3) and np.all(np.abs(motions) <= 1)
+        for motion in motions:
+            replayed, *_ = moving.step(motion)
+        for key in observation:
+            np.testing.assert_array_equal(replayed[key], observation[key])
+        if terminated or truncated:
+            break
+
+
+def test_an_example_gif_of_a_prober_draws_every_other_motion_not_every_probe(tmp_path) -> None:
+    from PIL import Image
+
+    from agents.evaluate import record_gif
+    from agents.scripted.rollout import run_episodes
+
+    settings = {"map": "none", "action_mode": "probe"}
+    (result,) = run_episodes(_AlternatingProber(), [1_000_001], max_steps=6, **settings)
+    assert result["steps"] > result["actions"]  # many motions per probe
+    record_gif(tmp_path / "probes.gif", _AlternatingProber(), settings, 1_000_001, max_steps=6)
+    with Image.open(tmp_path / "probes.gif") as gif:
+        # The reset, a frame every two wrist motions, and the last motion's.
+        assert gif.n_frames == 1 + result["steps"] // 2 + result["steps"] % 2

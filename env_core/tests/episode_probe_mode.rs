@@ -52,12 +52,14 @@ fn a_probe_is_exactly_its_controllers_wrist_motions_and_stops_by_its_rules() {
                 let mut phases = Vec::new();
                 let mut touching = !moving.scene().contacts().is_empty();
                 let mut stop_reason = None;
+                let mut motions = Vec::new();
                 for _ in 0..info.motions {
                     let (phase, motion) = control.next_motion(moving.scene().hand_pose(), &probe);
                     phases.push(phase);
                     // Never a motion that presses on while the finger touches (a wait instead).
                     let waits = phase == Phase::Done || (touching && phase.presses(&motion));
                     let motion = if waits { [0.0; 3] } else { motion };
+                    motions.push(motion.map(|v| v.clamp(-1.0, 1.0)));
                     let step = moving.step(motion).unwrap();
                     touching = step.contacts > 0;
                     // A reason to stop holds only at the probe's last motion.
@@ -80,6 +82,13 @@ fn a_probe_is_exactly_its_controllers_wrist_motions_and_stops_by_its_rules() {
                     observe(&moving),
                     "map {map:?} seed {seed}"
                 );
+                // The probe reports the motions it made: a wrist-mode replay of them.
+                assert_eq!(
+                    probing.last_motions(),
+                    &motions[..],
+                    "map {map:?} seed {seed}"
+                );
+                assert_eq!(moving.last_motions(), &motions[motions.len() - 1..]);
                 assert!((info.reward - summed.reward).abs() < 1e-9);
                 assert!((info.reward_step - summed.reward_step).abs() < 1e-12);
                 assert_eq!(info.contacts, summed.contacts);
@@ -170,7 +179,13 @@ fn the_wrist_mode_is_the_default_and_a_step_is_one_motion() {
     assert_eq!(default.action_mode, ActionMode::Wrist);
     let mut episode = Episode::new(default, 3).unwrap();
     assert_eq!(episode.last_info().motions, 0);
+    assert!(episode.last_motions().is_empty());
     // Fractional wrist actions stay valid: the probe indices' check is the probe mode's.
     let info = episode.step([0.25, 0.5, -0.125]).unwrap();
     assert_eq!((info.motions, info.steps), (1, 1));
+    // The one motion, clipped as it was applied; a reset forgets it.
+    episode.step([2.0, -0.5, 0.0]).unwrap();
+    assert_eq!(episode.last_motions(), &[[1.0, -0.5, 0.0]]);
+    episode.reset(4).unwrap();
+    assert!(episode.last_motions().is_empty());
 }

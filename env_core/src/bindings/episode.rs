@@ -321,6 +321,21 @@ impl PyEpisodeBatch {
         info_dict(py, state.inner.episodes()[index].last_info())
     }
 
+    /// The wrist motions episode `index`'s last step made, (k, 3) `wrist`-mode actions
+    /// (`Episode::last_motions`): replayed in a `wrist`-mode env of the same settings and
+    /// layout, they draw a probe motion by motion.
+    fn last_motions<'py>(
+        &self,
+        py: Python<'py>,
+        index: usize,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let state = self.state.lock()?;
+        let index = state.episode_index(index)?;
+        let motions = state.inner.episodes()[index].last_motions();
+        let flat: Vec<f64> = motions.iter().flatten().copied().collect();
+        PyArray1::from_vec(py, flat).reshape([motions.len(), 3])
+    }
+
     /// The batch's info arrays: a dict of one array (N,) per key of `step_info_fields()`,
     /// the same arrays every call, overwritten by every step and reset.
     fn info_arrays<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {

@@ -42,6 +42,8 @@ pub struct Episode {
     approach: ApproachField,
     probes: ProbeController,
     last_info: StepInfo,
+    /// The wrist motions of the last step (see [`Episode::last_motions`]).
+    last_motions: Vec<[f64; 3]>,
 }
 
 impl Episode {
@@ -84,6 +86,7 @@ impl Episode {
             approach: ApproachField::default(),
             probes,
             last_info: StepInfo::default(),
+            last_motions: Vec::new(),
         };
         episode.start()?;
         Ok(episode)
@@ -102,6 +105,7 @@ impl Episode {
 
     fn start(&mut self) -> Result<(), EpisodeError> {
         self.steps = 0;
+        self.last_motions.clear();
         self.truth_poses.clear();
         self.iou = None;
         self.displacement_sum = 0.0;
@@ -306,6 +310,7 @@ impl Episode {
         if self.ended {
             return Err(EpisodeError::Ended);
         }
+        self.last_motions.clear();
         match self.config.action_mode {
             ActionMode::Wrist => self.move_wrist(action),
             ActionMode::Probe => self.probe(action),
@@ -349,6 +354,7 @@ impl Episode {
     fn move_wrist(&mut self, action: [f64; 3]) -> Result<StepInfo, EpisodeError> {
         let clipped = action.iter().any(|v| v.abs() > 1.0);
         let [ax, ay, ayaw] = action.map(|v| v.clamp(-1.0, 1.0));
+        self.last_motions.push([ax, ay, ayaw]);
         let hand = &self.config.scene.hand;
         let report = self.scene.step(HandCommand {
             dx: ax * hand.max_step_translation,
@@ -416,6 +422,15 @@ impl Episode {
     /// The metrics of the last reset or step.
     pub fn last_info(&self) -> &StepInfo {
         &self.last_info
+    }
+
+    /// The wrist motions the last step made, as `wrist`-mode actions in [−1, 1]³ (clipped):
+    /// one in the `wrist` mode, every motion of the probe in the `probe` mode (a wait is
+    /// `[0, 0, 0]`); none after a reset. Stepping a `wrist`-mode episode of the same
+    /// settings and layout with them reproduces the step motion by motion (what a renderer
+    /// needs to draw every motion of a probe).
+    pub fn last_motions(&self) -> &[[f64; 3]] {
+        &self.last_motions
     }
 
     /// The scene (ground truth for rendering and tests).

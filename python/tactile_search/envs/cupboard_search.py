@@ -217,6 +217,14 @@ class CupboardSearchEnv(gym.Env, EzPickle):
         wrist motion, so ``ValueError`` in the ``probe`` action mode."""
         return self._batch.oracle_actions()[0].astype(np.float32)
 
+    def last_motions(self) -> np.ndarray:
+        """The wrist motions the last step made, ``(k, 3)`` ``wrist``-mode actions (clipped to
+        [-1, 1]): one in the ``wrist`` mode, every motion of the probe in the ``probe`` mode;
+        none after a reset. Stepping a ``wrist``-mode env of the same settings, reset to the
+        same layout, with them reproduces the episode motion by motion (to draw every motion
+        of a probe)."""
+        return self._batch.last_motions(0)
+
     def render_state(self) -> dict[str, Any]:
         """Ground truth and map of the current state (jars, hand, contacts, map grids)."""
         return self._batch.render_state(0)
