@@ -338,3 +338,37 @@ def test_an_agent_trained_with_several_seeds_gets_one_example_gif(
     ]
     table = (out / "results.md").read_text()
     assert "| ppo (gpis map, seed 3) |" in table and "| ppo (gpis map, seed 4) |" in table
+
+
+def test_the_probe_trace_counts_waits_revisits_and_lane_change_costs():
+    from agents.probe_trace import Probe, TracedEpisode, summary
+
+    def probe(lane: int, motions: int, waited: bool = False) -> Probe:
+        return Probe(lane, 0, 0, motions, waited)
+
+    episodes = [
+        TracedEpisode(1, True, False, (probe(4, 30),)),
+        TracedEpisode(2, False, True, (probe(4, 30), probe(9, 60))),  # a tip: not timed out
+        # Timed out: lane 4, again lane 4, a wait in it, lane 5, back to lane 4.
+        TracedEpisode(
+            3,
+            False,
+            False,
+            (probe(4, 40), probe(4, 10), probe(4, 1, waited=True), probe(5, 70), probe(4, 79)),
+        ),
+    ]
+    figures = summary(episodes)
+    assert figures["success"] == pytest.approx(1 / 3)
+    assert figures["first-probe success"] == pytest.approx(1 / 3)
+    assert figures["timed out"] == pytest.approx(1 / 3)
+    assert figures["probes per timed-out episode"] == 5
+    assert figures["waits (share of their probes)"] == pytest.approx(1 / 5)
+    assert figures["probes in a lane already probed (share)"] == pytest.approx(3 / 5)
+    assert figures["motions per probe, same lane"] == 10
+    assert figures["motions per probe, lane changed"] == pytest.approx((70 + 79) / 2)
+
+
+def test_the_probe_trace_cli_reads_a_probe_mode_run(trained_runs: dict[str, Path]):
+    result = run_module("agents.probe_trace", str(trained_runs["ppo"]), "--episodes", "2")
+    assert "Validation layouts 1000000..1000001" in result.stdout
+    assert "| motions per probe, lane changed |" in result.stdout
