@@ -151,7 +151,13 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--episodes", type=int, default=200, help="validation layouts")
     args = parser.parse_args(argv)
     seeds = held_out_seeds("validation", args.episodes)
-    summaries = {run.name: summary(trace(run, seeds)) for run in args.runs}
+    # A column per run, named by its directory (by its path where two share a name).
+    names = [run.name for run in args.runs]
+    if len(set(names)) < len(names):
+        names = [str(run) for run in args.runs]
+    summaries = {
+        name: summary(trace(run, seeds)) for name, run in zip(names, args.runs, strict=True)
+    }
     print(f"Validation layouts {seeds[0]}..{seeds[-1]}:\n")
     print(summary_markdown(summaries))
 

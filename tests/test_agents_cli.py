@@ -4,6 +4,7 @@ episodes), and their building blocks check their input."""
 from __future__ import annotations
 
 import csv
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -368,7 +369,15 @@ def test_the_probe_trace_counts_waits_revisits_and_lane_change_costs():
     assert figures["motions per probe, lane changed"] == pytest.approx((70 + 79) / 2)
 
 
-def test_the_probe_trace_cli_reads_a_probe_mode_run(trained_runs: dict[str, Path]):
-    result = run_module("agents.probe_trace", str(trained_runs["ppo"]), "--episodes", "2")
+def test_the_probe_trace_cli_gives_each_run_its_own_column(
+    trained_runs: dict[str, Path], tmp_path: Path
+):
+    # Two runs with the same directory name: each keeps its column, named by its path.
+    twin = tmp_path / trained_runs["ppo"].name
+    shutil.copytree(trained_runs["ppo"], twin)
+    result = run_module(
+        "agents.probe_trace", str(trained_runs["ppo"]), str(twin), "--episodes", "2"
+    )
     assert "Validation layouts 1000000..1000001" in result.stdout
+    assert f"| | {trained_runs['ppo']} | {twin} |" in result.stdout
     assert "| motions per probe, lane changed |" in result.stdout
