@@ -27,6 +27,7 @@ import numpy as np
 from agents.evaluate import make_agent
 from agents.scripted.rollout import run_episodes
 from agents.seed_ranges import held_out_seeds
+from tactile_search.envs import CupboardSearchConfig
 
 
 @dataclass(frozen=True)
@@ -74,10 +75,12 @@ class _Recording:
 def trace(run_dir: Path, seeds: Sequence[int]) -> list[TracedEpisode]:
     """Every episode of the run's agent on ``seeds``, probe by probe."""
     agent, env_kwargs = make_agent(str(run_dir))
-    if env_kwargs.get("action_mode") != "probe":
+    # The mode the core resolves from the recipe's settings (its default where they say none).
+    action_mode = CupboardSearchConfig(**env_kwargs).action_mode
+    if action_mode != "probe":
         raise ValueError(
-            f"{run_dir} was trained in the {env_kwargs.get('action_mode', 'wrist')!r} action "
-            "mode; a probe trace needs the 'probe' mode"
+            f"{run_dir} was trained in the {action_mode!r} action mode; a probe trace needs "
+            "the 'probe' mode"
         )
     recording = _Recording(agent)
     probes: list[Probe] = []

@@ -381,3 +381,20 @@ def test_the_probe_trace_cli_gives_each_run_its_own_column(
     assert "Validation layouts 1000000..1000001" in result.stdout
     assert f"| | {trained_runs['ppo']} | {twin} |" in result.stdout
     assert "| motions per probe, lane changed |" in result.stdout
+
+
+def test_the_probe_trace_refuses_a_run_of_the_wrist_mode(tmp_path: Path):
+    from agents.probe_trace import trace
+
+    # The no-map recipe without its action mode: the core's default, the wrist mode.
+    recipe = yaml.safe_load((REPO / "agents/hyperparams/ppo.yml").read_text())
+    (env_id,) = recipe
+    del recipe[env_id]["none"]["env_kwargs"]["action_mode"]
+    (tmp_path / "wrist.yml").write_text(yaml.safe_dump(recipe))
+    run_module(
+        "agents.train",
+        *("--map", "none", "--timesteps", "64", "--n-envs", "2", "--no-progress"),
+        *("--hyperparams", str(tmp_path / "wrist.yml"), "--out", str(tmp_path)),
+    )
+    with pytest.raises(ValueError, match="trained in the 'wrist' action mode"):
+        trace(tmp_path / "ppo_none_seed0", [1_000_000])
