@@ -45,12 +45,12 @@ paper: build ## regenerate docs/paper/ figures and docs/PAPER.md's table (experi
 bench: build-dev $(VENV)/.extra-bench $(VENV)/.extra-scale ## criterion benchmarks and the Python benchmark scripts (prints figures)
 	cargo bench -p env_core --bench gpis_append
 	cargo bench -p env_core --bench scene
-	$(PY) benchmarks/gpis_append.py --out results/gpis_append.png
+	$(PY) -m benchmarks.gpis_append --out results/gpis_append.png
 	cargo run --release --quiet -p env_core --example physics_tradeoffs
 	$(PY) -m benchmarks.prior_rows
-	$(PY) benchmarks/peer_envs.py --json results/peer_envs.json
-	$(PY) benchmarks/soak.py --out results/soak.png --json results/soak.json
-	$(PY) benchmarks/ray_grid.py --json results/ray_grid.json
+	$(PY) -m benchmarks.peer_envs --json results/peer_envs.json
+	$(PY) -m benchmarks.soak --out results/soak.png --json results/soak.json
+	$(PY) -m benchmarks.ray_grid --json results/ray_grid.json
 
 fuzz: build-dev ## the long fuzz run: the Rust and Python property tests with many cases (prints counts)
 	PROPTEST_CASES=25000 cargo test --release -p env_core --test fuzz_gpis --test fuzz_settings_and_actions

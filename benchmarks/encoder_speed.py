@@ -1,7 +1,7 @@
-"""PPO training speed with each map encoder of ``agents/encoders.py`` against SB3's default.
+"""PPO training speed with each map encoder of ``agents/sb3/encoders.py`` against SB3's default.
 
 Trains the documented GPIS recipe (``agents/hyperparams/ppo.yml``, its ``policy_kwargs``
-kept and the encoder's merged in) on the Rust batch (``agents.train.make_training_env``)
+kept and the encoder's merged in) on the Rust batch (``agents.sb3.training_env.make_training_env``)
 with each encoder: SB3's ``MultiInputPolicy`` default (NatureCNN on the map),
 ``ImpalaMapExtractor``, ``SpatialSoftmaxMapExtractor``, and for reference the no-map recipe
 (proprio only: an MLP). After one excluded warm-up rollout and update per model, it measures
@@ -32,13 +32,14 @@ import statistics
 import time
 from typing import Any
 
-from agents.encoders import (
+from agents.sb3.encoders import (
     ImpalaMapExtractor,
     MapExtractor,
     SpatialSoftmaxMapExtractor,
     map_feature_shape,
 )
-from agents.train import RUN_KEYS, algorithm_class, load_hyperparams, make_training_env
+from agents.sb3.recipes import RUN_KEYS, algorithm_class, load_hyperparams
+from agents.sb3.training_env import make_training_env
 
 # name -> (the recipe's map mode, the features extractor merged into policy_kwargs or None
 # for SB3's default CombinedExtractor).
@@ -77,7 +78,7 @@ def build_model(
     extractor_kwargs: dict[str, Any] | None = None,
 ) -> tuple[Any, dict]:
     """The PPO model of encoder ``name`` (with ``extractor_kwargs`` for a map extractor of
-    ``agents/encoders.py``) on its own training env, and its recipe."""
+    ``agents/sb3/encoders.py``) on its own training env, and its recipe."""
     map_mode, extractor = ENCODERS[name]
     recipe = load_hyperparams("ppo", map_mode)
     n_envs = n_envs or recipe["n_envs"]

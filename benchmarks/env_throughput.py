@@ -10,8 +10,8 @@ and the speed-up of the vector env (one Rust batch on all cores) over the same b
 thread, for 8 and 16 envs (medians of alternating rounds; with ``copy=False`` too where the
 env has it). The machine is shared and noisy: compare medians and ratios from one run.
 
-Usage: ``python benchmarks/env_throughput.py [--steps 3000] [--modes gpis none]
-[--num-envs 8 16] [--vector-only]``
+Usage (from the repository root): ``python -m benchmarks.env_throughput [--steps 3000]
+[--modes gpis none] [--num-envs 8 16] [--vector-only]``
 """
 
 from __future__ import annotations

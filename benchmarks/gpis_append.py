@@ -1,29 +1,21 @@
 """Time per GPIS update against the number of rows: incremental append vs full recompute.
 
-The paper's Fig. 9 redone (DESIGN.md sections 3 and 5): for each map size n, the time to
-add ONE contact (3 rows) through ``tactile_search.Gpis.add_contacts`` (the exact incremental
-update) against ``Gpis.recompute_from_scratch()`` (what the paper does after every new
-measurement) at the same n. The map: x in [-0.3, 0.3] m, y in [0, 0.3] m, a grid x grid
-grid, default psi; n rows = value rows at random points (noise_std 0.002) plus about 10 %
-of the rows as contacts, from a fixed seed, filled up with value points until exactly n.
+The paper's Fig. 9 redone (``docs/DESIGN.md`` sections 3 and 5): for each map size n, the
+time to add ONE contact (3 rows) through ``tactile_search.Gpis.add_contacts`` (the exact
+incremental update) against ``Gpis.recompute_from_scratch()`` (what the paper does after
+every new measurement) at the same n. The maps and the timing method are Fig. 9's,
+``experiments.paper.gpis_timing`` (which documents them); this command prints the table,
+checks the targets at n = 1000 and plots. The full-recompute map's ``memory_bytes`` is the
+memory reported per n.
 
-Method (one core, wall clock with ``time.perf_counter``, medians over repeats):
+Method (one core, wall clock with ``time.perf_counter``, medians over repeats). The Rust
+core runs its linear algebra with ``Par::Seq``, so thread settings (``OMP_NUM_THREADS`` and
+the like) do not matter; the process is also pinned to one CPU where the OS allows it. The
+host may be shared and noisy: compare medians, not single runs.
 
-- append: every timed append starts from a map of n .. n + 3 (R - 1) rows, where
-  R = max(1, n // 150) (about 2 % of n in rows): a map with exactly n rows is built
-  (untimed) with ``max_rows = n + 3 R``, so that its storage has room for R contacts and
-  no timed append reallocates, then receives R single-contact appends, then is rebuilt.
-  The time includes the Python wrapper's argument checks (what a user pays).
-- full recompute: ``recompute_from_scratch()`` on a map of exactly n rows built with the
-  default ``max_rows``; that map's ``memory_bytes`` is the memory reported per n.
+Usage (from the repository root)::
 
-The Rust core runs its linear algebra with ``Par::Seq``, so thread settings
-(``OMP_NUM_THREADS`` and the like) do not matter; the process is also pinned to one CPU
-where the OS allows it. The host may be shared and noisy: compare medians, not single runs.
-
-Usage::
-
-    python benchmarks/gpis_append.py --out results/gpis_append.png
+    python -m benchmarks.gpis_append --out results/gpis_append.png
 """
 
 from __future__ import annotations
@@ -32,86 +24,21 @@ import argparse
 import os
 import platform
 import statistics
-import time
 from pathlib import Path
 
 import numpy as np
 
-from tactile_search import Gpis
+from experiments.paper.gpis_timing import (
+    BOUNDS,
+    DEFAULT_MAX_ROWS,
+    build_map,
+    time_appends,
+    time_full,
+)
 
-BOUNDS = ((-0.3, 0.3), (0.0, 0.3))
-VALUE_NOISE_STD = 0.002
-CONTACT_NOISE_STD = 0.0005
-NORMAL_NOISE_STD = 0.05
-DEFAULT_MAX_ROWS = 4096
-CONTACT_POINT = np.array([[0.031, 0.137]])
-CONTACT_NORMAL = np.array([[0.6, -0.8]])
 TARGET_N = 1000
 TARGET_APPEND_MS = 3.0
 TARGET_RATIO = 50.0
-
-
-def random_points(rng: np.random.Generator, count: int) -> np.ndarray:
-    """``count`` points uniform in the bounds, ``(count, 2)``."""
-    (x0, x1), (y0, y1) = BOUNDS
-    return np.column_stack([rng.uniform(x0, x1, count), rng.uniform(y0, y1, count)])
-
-
-def build_map(n: int, grid: int, max_rows: int, seed: int) -> Gpis:
-    """A map holding exactly ``n`` rows (the same rows for the same ``n`` and ``seed``)."""
-    rng = np.random.default_rng(seed + n)
-    g = Gpis(BOUNDS, (grid, grid), max_rows=max_rows)
-    n_contacts = n // 30
-    g.add_values(random_points(rng, n - 3 * n_contacts), noise_std=VALUE_NOISE_STD)
-    angles = rng.uniform(0.0, 2.0 * np.pi, n_contacts)
-    g.add_contacts(
-        random_points(rng, n_contacts),
-        np.column_stack([np.cos(angles), np.sin(angles)]),
-        noise_std=CONTACT_NOISE_STD,
-        normal_noise_std=NORMAL_NOISE_STD,
-    )
-    while g.n_rows < n:  # a rejected (degenerate) row is replaced by a fresh value point
-        g.add_values(random_points(rng, n - g.n_rows), noise_std=VALUE_NOISE_STD)
-    if g.n_rows != n:
-        raise RuntimeError(f"built {g.n_rows} rows instead of {n}")
-    return g
-
-
-def append_one_contact(g: Gpis) -> float:
-    """Seconds taken by appending one contact (3 rows) to ``g``."""
-    start = time.perf_counter()
-    added = g.add_contacts(
-        CONTACT_POINT,
-        CONTACT_NORMAL,
-        noise_std=CONTACT_NOISE_STD,
-        normal_noise_std=NORMAL_NOISE_STD,
-    )
-    elapsed = time.perf_counter() - start
-    if added != 3:
-        raise RuntimeError(f"the contact added {added} rows instead of 3")
-    return elapsed
-
-
-def time_appends(n: int, grid: int, repeats: int, seed: int) -> list[float]:
-    """``repeats`` single-contact append times (s), each starting from n .. n + 3 (R - 1)."""
-    per_build = max(1, n // 150)
-    times: list[float] = []
-    g = None
-    while len(times) < repeats:
-        if g is None or g.free_rows < 3:
-            g = build_map(n, grid, max_rows=n + 3 * per_build, seed=seed)
-        times.append(append_one_contact(g))
-    return times
-
-
-def time_full(g: Gpis, repeats: int) -> list[float]:
-    """``repeats`` times (s) of the full recompute of ``g``."""
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        g.recompute_from_scratch()
-        times.append(time.perf_counter() - start)
-    return times
 
 
 def pin_to_one_cpu() -> str:

@@ -13,15 +13,15 @@ driven by random actions from its own seeded ``action_space``. It measures, per 
   the rounds with min-max, and for each of our map modes its steps/s over Pusher-v5's in
   the same round, per round and their median.
 - median reset and step times (µs), timed one call at a time with ``time.perf_counter_ns``
-  on the same envs: ``reset(seed=1_000_000 + i)`` for ``--reset-seeds`` layout seeds of the
-  validation range, each followed by its whole episode of random steps, every step timed;
-  the envs take turns seed by seed.
+  on the same envs: ``reset(seed=seed)`` for the first ``--reset-seeds`` layout seeds of the
+  validation range (``tactile_search.seed_ranges``), each followed by its whole episode of
+  random steps, every step timed; the envs take turns seed by seed.
 
 Needs MuJoCo (gymnasium's MuJoCo envs): ``pip install -e '.[bench]'`` (``make bench`` does).
 
-Usage::
+Usage (from the repository root)::
 
-    python benchmarks/peer_envs.py [--rounds 5] [--steps 3000] [--maps gpis none]
+    python -m benchmarks.peer_envs [--rounds 5] [--steps 3000] [--maps gpis none]
         [--reset-seeds 50] [--json results/peer_envs.json]
 """
 
@@ -42,14 +42,14 @@ from typing import Any
 
 import gymnasium as gym
 
-import tactile_search  # noqa: F401  (registers tactile_search/CupboardSearch-v0)
+from tactile_search import ENV_ID  # importing the package registers the environment
 from tactile_search.envs.config import MAP_MODES
+from tactile_search.seed_ranges import VALIDATION, held_out_seeds
 
-OUR_ID = "tactile_search/CupboardSearch-v0"
+#: Our env's name without its namespace, in the labels.
+OUR_NAME = ENV_ID.rpartition("/")[2]
 REFERENCE_ID = "Pusher-v5"
 PEER_IDS = (REFERENCE_ID, "Ant-v5")
-#: First layout seed of the validation range (DESIGN.md section 7).
-VALIDATION_SEED = 1_000_000
 #: The modules gymnasium's MuJoCo envs import (imageio: its renderer, made with every env).
 MUJOCO_MODULES = ("mujoco", "imageio")
 INSTALL_HINT = "pip install -e '.[bench]'"
@@ -75,7 +75,7 @@ def check_mujoco() -> None:
     missing = [name for name in MUJOCO_MODULES if importlib.util.find_spec(name) is None]
     if missing:
         sys.exit(
-            f"peer_envs.py compares with gymnasium's MuJoCo envs, which need "
+            f"benchmarks.peer_envs compares with gymnasium's MuJoCo envs, which need "
             f"{' and '.join(missing)} (not installed). Install the 'bench' extra: "
             f"{INSTALL_HINT}  (or `make bench`)"
         )
@@ -106,7 +106,7 @@ def header() -> dict[str, Any]:
 def make_subjects(maps: list[str], seed: int) -> list[Subject]:
     """Our env once per map mode, then the MuJoCo peers; each reset and its action space
     seeded with ``seed``."""
-    subjects = [Subject(f"CupboardSearch-v0 map={m}", gym.make(OUR_ID, map=m), True) for m in maps]
+    subjects = [Subject(f"{OUR_NAME} map={m}", gym.make(ENV_ID, map=m), True) for m in maps]
     subjects += [Subject(env_id, gym.make(env_id), False) for env_id in PEER_IDS]
     for subject in subjects:
         subject.env.action_space.seed(seed)
@@ -149,13 +149,13 @@ def throughput(subjects: list[Subject], rounds: int, steps: int, warmup: int) ->
 
 
 def call_times(subjects: list[Subject], seeds: int) -> None:
-    """``reset(seed=VALIDATION_SEED + i)`` for ``seeds`` seeds and every step of the episode
-    that follows, each call timed on its own; the subjects take turns seed by seed."""
-    for i in range(seeds):
+    """``reset(seed=seed)`` for the first ``seeds`` validation seeds and every step of the
+    episode that follows, each call timed on its own; the subjects take turns seed by seed."""
+    for seed in held_out_seeds("validation", seeds):
         for subject in subjects:
             env = subject.env
             start = time.perf_counter_ns()
-            env.reset(seed=VALIDATION_SEED + i)
+            env.reset(seed=seed)
             subject.reset_ns.append(time.perf_counter_ns() - start)
             done = False
             while not done:
@@ -196,7 +196,7 @@ def print_report(meta: dict[str, Any], args: argparse.Namespace, results: dict[s
         f"per env (after {args.warmup} warm-up steps), whole episodes, resets timed"
     )
     print(
-        f"reset/step: medians of reset(seed={VALIDATION_SEED}+i) for {args.reset_seeds} seeds "
+        f"reset/step: medians of reset(seed={VALIDATION[0]}+i) for {args.reset_seeds} seeds "
         f"and of every step of those episodes, each call timed on its own\n"
     )
     width = max(len(label) for label in results)

@@ -30,7 +30,8 @@ from typing import Any
 import numpy as np
 from stable_baselines3.common.vec_env import VecEnv, VecEnvWrapper
 
-from agents.train import RUN_KEYS, algorithm_class, load_hyperparams, make_training_env
+from agents.sb3.recipes import RUN_KEYS, algorithm_class, load_hyperparams
+from agents.sb3.training_env import make_training_env
 
 
 class ZeroCostVecEnv(VecEnv):

@@ -1,14 +1,16 @@
 """How many depth points the GPIS prior needs: map quality and reset time against
 ``max_prior_depth_points``, on validation layouts.
 
-For each value, over the same validation seeds (``1_000_000..``), the environment is reset
+For each value, over the same validation seeds (the first of
+``tactile_search.seed_ranges.VALIDATION``), the environment is reset
 (the map is the depth prior alone: ``info["iou"]`` and rows) and the scripted GPIS planner,
 which reads only the observation, runs the episode (success, and the IoU of the map that
 depth and touch built by its end). Reset times are medians of ``env.reset`` in the same
 run. The prior's cost grows as rows² times grid cells, so fewer points make resets cheaper; the
 question is where the map starts to suffer.
 
-Run: ``python benchmarks/prior_rows.py [--seeds 40] [--points 96 64 48 32]``.
+Run (from the repository root): ``python -m benchmarks.prior_rows [--seeds 40]
+[--points 96 64 48 32]``.
 """
 
 from __future__ import annotations
@@ -17,23 +19,18 @@ import argparse
 import statistics
 import time
 
-import numpy as np
-
+from agents.evaluation.statistics import wilson_interval
 from agents.scripted import GpisPlanner
 from tactile_search import CupboardSearchEnv
-
-VALIDATION_SEED = 1_000_000
+from tactile_search.seed_ranges import held_out_seeds
 
 
 def interval(successes: int, n: int) -> str:
-    """Wilson 95 % interval of a rate, as text."""
+    """The project's Wilson 95 % interval of a rate (``wilson_interval``), as text."""
     if n == 0:
         return "-"
-    z = 1.96
-    p = successes / n
-    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
-    half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    return f"[{100 * (centre - half):.0f}, {100 * (centre + half):.0f}]"
+    low, high = wilson_interval(successes, n)
+    return f"[{100 * low:.0f}, {100 * high:.0f}]"
 
 
 def measure(points: int, seeds: list[int]) -> dict[str, float | str]:
@@ -73,7 +70,7 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, default=40)
     parser.add_argument("--points", type=int, nargs="+", default=[96, 64, 48, 32])
     args = parser.parse_args()
-    seeds = [VALIDATION_SEED + i for i in range(args.seeds)]
+    seeds = held_out_seeds("validation", args.seeds)
     print(f"validation seeds {seeds[0]}..{seeds[-1]}; reset times are medians (ms)")
     print(
         f"{'points':>6} {'rows':>6} {'reset':>7} {'prior IoU':>12} {'final IoU':>12} "

@@ -1,6 +1,7 @@
 """The experiment grid on Ray against the same work one trial after another, on this machine.
 
-Prints three figures (``python benchmarks/ray_grid.py``; ~10 min on 2 cores):
+Prints three figures (``python -m benchmarks.ray_grid``, from the repository root; ~10 min
+on 2 cores):
 
 1. **Grid speed-up.** Four equal trials (PPO with the GPIS map, training seeds 0-3, at
    ``--timesteps``), trained one after another in one process (``--scheduler local``) and as
@@ -8,7 +9,7 @@ Prints three figures (``python benchmarks/ray_grid.py``; ~10 min on 2 cores):
    fresh process timed from start to end, so Ray's start-up counts against it.
    As a control, the same trials split over plain processes (one per trial slot, no Ray):
    the speed-up this machine's cores give at all.
-2. **Overhead.** One trial (PPO with the GPIS map) run directly (``agents.grid.train_trial``
+2. **Overhead.** One trial (PPO with the GPIS map) run directly (``agents.grid.trials.train_trial``
    in a fresh process) and as the only trial on Ray (a fresh process that starts Ray); also
    without Ray's start-up (the time after ``ray.init`` returned).
 3. **On paper.** The wall-clock of the documented grid (the 4 agents x 3 training seeds at
@@ -35,11 +36,12 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(REPO))
+from agents.grid.budgets import BUDGETS, SCRIPTED
+from agents.sb3.recipes import load_hyperparams
 
-from agents.pipeline import BUDGETS, SCRIPTED  # noqa: E402
-from agents.train import load_hyperparams  # noqa: E402
+#: The repository's root: the children's working directory (``python -c`` finds ``agents``
+#: there).
+REPO = Path(__file__).resolve().parents[1]
 
 FULL = BUDGETS["full"]
 # Training seeds of the documented grid, and its evaluation episodes per agent.
@@ -50,14 +52,14 @@ DOCUMENTED_SEEDS = 3
 CHILD = """
 import json, sys, time
 started = time.perf_counter()
-from agents.grid import TrainingTrial, train_trial
+from agents.grid.trials import TrainingTrial, train_trial
 spec = json.loads(sys.argv[1])
 trials = [TrainingTrial(**t) for t in spec["trials"]]
 connected = started
 if spec["scheduler"] == "ray":
     from pathlib import Path
-    from agents import ray_grid
-    from agents.ray_session import connect
+    from agents.grid import ray_scheduler as ray_grid
+    from agents.grid.ray_session import connect
     connect(num_cpus=spec["cpus"])
     connected = time.perf_counter()
     ray_grid.train_on_ray(trials)
@@ -126,7 +128,7 @@ def trial_dicts(
 
 def training_rates(runs: Path) -> dict[tuple[str, str], float]:
     """Env steps per second of each run under ``runs`` (from its config.yml)."""
-    from agents.train import read_run_config
+    from agents.run_dir import read_run_config
 
     rates = {}
     for run_dir in sorted(runs.iterdir()):
@@ -141,8 +143,8 @@ def training_rates(runs: Path) -> dict[tuple[str, str], float]:
 def episode_seconds(runs: Path, episodes: int) -> dict[str, float]:
     """Seconds per evaluation episode of each learned run under ``runs`` and each scripted
     agent, on validation layouts."""
-    from agents.grid import evaluate_shard, run_files
-    from agents.seed_ranges import held_out_seeds
+    from agents.grid.trials import evaluate_shard, run_files
+    from tactile_search.seed_ranges import held_out_seeds
 
     seeds = held_out_seeds("validation", episodes)
     specs = {run_dir.name: (str(run_dir), run_files(run_dir)) for run_dir in sorted(runs.iterdir())}

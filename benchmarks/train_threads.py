@@ -2,9 +2,9 @@
 
 Trains the GPIS-map PPO recipe for a fixed number of timesteps with each thread count,
 alternating the counts over ``--repeats`` rounds so that a noisy machine affects them
-alike, and prints the median timesteps per second of each::
+alike, and prints the median timesteps per second of each (from the repository root)::
 
-    python benchmarks/train_threads.py --timesteps 16384 --repeats 3
+    python -m benchmarks.train_threads --timesteps 16384 --repeats 3
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from pathlib import Path
 
 import yaml
 
-from agents.train import train
+from agents.sb3.training import train
 
 
 def main() -> None:

@@ -5,7 +5,10 @@ and 0.3 m deep. A depth camera in front of the opening sees only their front fac
 noisy points build the GPIS prior exactly as the environment builds it (``_core.depth_prior``:
 f = 0 on each hit, f = +d a little in front of it along the ray, thinned, at the
 environment's default settings). A handful of contacts on the hidden sides (point + outward
-normal) then update the map with the environment's contact noise. The demo prints the IoU of
+normal) then update the map with the environment's contact noise. The cupboard's size, the
+camera's place and the depth and touch noise are the core's defaults
+(``_core.EpisodeBatch.settings()``, read through ``experiments.maps.env_settings``); the
+shelf, the ray fan, the grid and the seed are the demo's own. The demo prints the IoU of
 the map's interior (mean < 0) against the true jar footprints for both maps (the
 environment's ``info["iou"]``, ``_core.interior_iou``) and writes a figure of mean, standard
 deviation and zero level set against the true outlines. The jars' geometry (signed distance,
@@ -26,9 +29,25 @@ from numpy.typing import NDArray
 from experiments.maps import add_touch, env_settings, start_map
 from tactile_search import Gpis, _core
 
-BOUNDS = ((-0.3, 0.3), (0.0, 0.3))
-CAMERA = np.array([0.0, -0.25])
-DEPTH_NOISE_STD = 0.002
+_DEFAULTS = env_settings()
+#: The map's bounds: the cupboard's interior in the slice plane (x centred, open front y = 0).
+BOUNDS = (
+    (-_DEFAULTS["cupboard_width"] / 2, _DEFAULTS["cupboard_width"] / 2),
+    (0.0, _DEFAULTS["cupboard_depth"]),
+)
+#: The depth camera's optical centre in the slice plane.
+CAMERA = np.array(_DEFAULTS["camera_position"][:2])
+#: Noise of each depth point's coordinates and of each contact's, m.
+DEPTH_NOISE_STD = _DEFAULTS["depth_noise_std"]
+CONTACT_NOISE_STD = _DEFAULTS["touch_point_noise_std"]
+#: The demo's own choices: camera rays, contacts per jar, outline samples, the ray fan's half
+#: angle (that of the opening's edge seen from ``FAN_SETBACK`` m behind the camera: 45
+#: degrees at the defaults) and the grid (finer than the environment's, for the figure).
+RAYS = 240
+CONTACTS_PER_JAR = 5
+OUTLINE_SAMPLES = 200
+FAN_SETBACK = 0.05
+GRID = (64, 128)
 
 # The shelf in the format of ``Scene.jars``: the last jar, behind the other two, is the
 # hidden target. Half widths are radii (round) or half sides (square).
@@ -70,7 +89,7 @@ def depth_scan(
     jars: dict[str, Any], rays: int, noise_std: float, rng: np.random.Generator
 ) -> NDArray[np.float64]:
     """First hits of a fan of camera rays (sphere tracing the signed distance), with noise."""
-    half_fov = np.arctan2(0.3, 0.25 + 0.05)
+    half_fov = np.arctan2(BOUNDS[0][1], -CAMERA[1] + FAN_SETBACK)
     angles = np.pi / 2 + np.linspace(-half_fov, half_fov, rays)
     directions = np.c_[np.cos(angles), np.sin(angles)]
     travelled = np.zeros(rays)
@@ -88,7 +107,7 @@ def hidden_contacts(
     """Touches on the sides the camera cannot see, as (points, outward normals)."""
     count = len(jars["shapes"])
     points = []
-    for k, outline in enumerate(_core.jar_outlines(jars, 200)):
+    for k, outline in enumerate(_core.jar_outlines(jars, OUTLINE_SAMPLES)):
         normals = outward_normals(outline, jars)
         away = np.einsum("ij,ij->i", normals, outline - CAMERA) > 0.0
         others = subset(jars, [j for j in range(count) if j != k])
@@ -113,8 +132,10 @@ def build_maps(
 ) -> tuple[Gpis, Gpis, dict[str, NDArray[np.float64]]]:
     """The depth-only map and the depth + touch map of the synthetic shelf."""
     rng = np.random.default_rng(seed)
-    depth = depth_scan(SHELF, rays=240, noise_std=DEPTH_NOISE_STD, rng=rng)
-    contact_points, contact_normals = hidden_contacts(SHELF, 5, noise_std=0.0005, rng=rng)
+    depth = depth_scan(SHELF, rays=RAYS, noise_std=DEPTH_NOISE_STD, rng=rng)
+    contact_points, contact_normals = hidden_contacts(
+        SHELF, CONTACTS_PER_JAR, noise_std=CONTACT_NOISE_STD, rng=rng
+    )
     settings = {"prior_mean": prior_mean}
     prior = start_map(depth, CAMERA, BOUNDS, shape, settings)
     touched = start_map(depth, CAMERA, BOUNDS, shape, settings)
@@ -132,7 +153,7 @@ def plot(maps: dict[str, Gpis], measurements: dict[str, NDArray[np.float64]], ou
 
     (x0, x1), (y0, y1) = BOUNDS
     extent = (x0, x1, y0, y1)
-    outlines = _core.jar_outlines(SHELF, 200)
+    outlines = _core.jar_outlines(SHELF, OUTLINE_SAMPLES)
     fig, axes = plt.subplots(len(maps), 2, figsize=(11, 3.2 * len(maps)), squeeze=False)
     for row, (title, gpis) in enumerate(maps.items()):
         limit = np.abs(gpis.mean).max()
@@ -187,10 +208,10 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument(
         "--prior-mean",
         type=float,
-        default=env_settings()["prior_mean"],
+        default=_DEFAULTS["prior_mean"],
         help="constant prior mean (default: the environment's)",
     )
-    parser.add_argument("--grid", type=int, nargs=2, default=(64, 128), metavar=("H", "W"))
+    parser.add_argument("--grid", type=int, nargs=2, default=GRID, metavar=("H", "W"))
     args = parser.parse_args(argv)
 
     result = run(args.seed, tuple(args.grid), args.prior_mean, args.out)

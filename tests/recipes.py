@@ -8,7 +8,9 @@ from typing import Any
 
 import yaml
 
-from agents.train import ENV_ID, HYPERPARAMS_DIR, train
+from agents.sb3.recipes import HYPERPARAMS_DIR
+from agents.sb3.training import train
+from tactile_search import ENV_ID
 
 
 def train_with_recipe(

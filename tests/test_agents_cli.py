@@ -15,15 +15,12 @@ import yaml
 pytest.importorskip("stable_baselines3")
 pytest.importorskip("sb3_contrib")
 
-from agents.evaluate import summarize, wilson_interval
-from agents.seed_ranges import held_out_seeds
-from agents.train import (
-    PUBLISHED_RUNS,
-    TRAIN_LAYOUT_SEEDS,
-    code_version,
-    load_hyperparams,
-    train,
-)
+from agents.evaluation.statistics import summarize, wilson_interval
+from agents.run_dir import PUBLISHED_RUNS, code_version
+from agents.sb3.recipes import load_hyperparams
+from agents.sb3.training import train
+from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS
+from tactile_search.seed_ranges import held_out_seeds
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -174,7 +171,7 @@ def test_bad_training_arguments_raise_value_errors(tmp_path: Path):
 
 
 def test_regenerated_results_keep_the_hand_written_findings(tmp_path: Path):
-    from agents.pipeline import write_results
+    from agents.grid.results_doc import write_results
 
     path = tmp_path / "RESULTS.md"
     write_results(path, "table v1")
@@ -209,7 +206,8 @@ def test_the_wilson_interval_holds_the_rate_even_at_zero_and_one(n):
 
 
 def test_evaluation_builds_the_env_from_the_recipe_without_its_reward_terms(tmp_path: Path):
-    from agents.evaluate import evaluate, make_agent
+    from agents.evaluation.agent_specs import make_agent
+    from agents.evaluation.evaluation import evaluate
     from tests.recipes import train_with_recipe
 
     env_kwargs = {"map": "gpis", "grid_shape": [36, 72], "jar_count": 3}
@@ -222,7 +220,8 @@ def test_evaluation_builds_the_env_from_the_recipe_without_its_reward_terms(tmp_
 
 
 def test_the_results_page_takes_machines_code_and_seeds_from_the_run_configs(tmp_path: Path):
-    from agents.pipeline import BUDGETS, results_markdown
+    from agents.grid.budgets import BUDGETS
+    from agents.grid.results_doc import results_markdown
 
     run_dirs = []
     for seed, dirty in ((0, False), (1, True)):
@@ -254,7 +253,8 @@ def test_a_budget_warm_starts_each_trial_from_its_published_run_when_there_is_on
 ):
     import dataclasses
 
-    from agents.pipeline import BUDGETS, trials
+    from agents.grid.budgets import BUDGETS
+    from agents.grid.pipeline import trials
 
     published = tmp_path / "models"
     (published / "ppo_gpis_seed0").mkdir(parents=True)
@@ -271,8 +271,8 @@ def test_a_budget_warm_starts_each_trial_from_its_published_run_when_there_is_on
 
 
 def test_a_sampling_agent_repeats_each_episode_whatever_ran_before(tmp_path: Path):
-    from agents.learned import LearnedAgent
-    from agents.scripted.rollout import run_episodes
+    from agents.rollout import run_episodes
+    from agents.sb3.learned import LearnedAgent
     from tests.recipes import train_with_recipe
 
     run_dir = train_with_recipe(tmp_path, "none", deterministic_evaluation=False)
@@ -286,7 +286,7 @@ def test_a_sampling_agent_repeats_each_episode_whatever_ran_before(tmp_path: Pat
 
 
 def test_evaluate_actions_override_the_recipe_and_keep_rows_apart(tmp_path: Path):
-    from agents.evaluate import evaluate
+    from agents.evaluation.evaluation import evaluate
     from tests.recipes import train_with_recipe
 
     run_dir = train_with_recipe(tmp_path, "none", deterministic_evaluation=False)
@@ -305,7 +305,7 @@ def test_evaluate_actions_override_the_recipe_and_keep_rows_apart(tmp_path: Path
 def test_learning_curves_give_an_agents_training_seeds_one_legend_entry(
     trained_runs: dict[str, Path], tmp_path: Path
 ):
-    from agents.evaluate import plot_learning_curves
+    from agents.evaluation.report import plot_learning_curves
 
     runs = [
         ("ppo (gpis map)", trained_runs["ppo"]),
@@ -322,7 +322,7 @@ def test_an_agent_trained_with_several_seeds_gets_one_example_gif(
 ):
     import shutil
 
-    from agents.evaluate import evaluate
+    from agents.evaluation.evaluation import evaluate
 
     second_seed = tmp_path / "ppo_gpis_seed4"
     shutil.copytree(trained_runs["ppo"], second_seed)
@@ -342,7 +342,7 @@ def test_an_agent_trained_with_several_seeds_gets_one_example_gif(
 
 
 def test_the_probe_trace_counts_waits_revisits_and_lane_change_costs():
-    from agents.probe_trace import Probe, TracedEpisode, summary
+    from agents.evaluation.probe_trace import Probe, TracedEpisode, summary
 
     def probe(lane: int, motions: int, waited: bool = False) -> Probe:
         return Probe(lane, 0, 0, motions, waited)
@@ -384,7 +384,7 @@ def test_the_probe_trace_cli_gives_each_run_its_own_column(
 
 
 def test_the_probe_trace_refuses_a_run_of_the_wrist_mode(tmp_path: Path):
-    from agents.probe_trace import trace
+    from agents.evaluation.probe_trace import trace
 
     # The no-map recipe without its action mode: the core's default, the wrist mode.
     recipe = yaml.safe_load((REPO / "agents/hyperparams/ppo.yml").read_text())

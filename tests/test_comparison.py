@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from agents.comparison import (
+from agents.evaluation.comparison import (
     agent_and_seed,
     agent_results,
     beats_in_every_seed,
@@ -104,7 +104,7 @@ def test_layouts_not_met_by_every_seed_are_left_out() -> None:
 
 
 def test_the_seeded_names_evaluate_writes_are_read_back() -> None:
-    from agents.evaluate import seeded_name
+    from agents.evaluation.agent_specs import seeded_name
 
     assert agent_and_seed(seeded_name("recurrent_ppo", "none", 2)) == (
         "recurrent_ppo (none map)",

@@ -1,4 +1,4 @@
-"""The map encoders of ``agents/encoders.py``: the spatial grid they keep, their features,
+"""The map encoders of ``agents/sb3/encoders.py``: the spatial grid they keep, their features,
 the no-map mode, PPO training, saving and loading with them, and their argument checks."""
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ sb3 = pytest.importorskip("stable_baselines3")
 from gymnasium import spaces  # noqa: E402
 from stable_baselines3.common.preprocessing import preprocess_obs  # noqa: E402
 
-from agents.encoders import (  # noqa: E402
+from agents.sb3.encoders import (  # noqa: E402
     ImpalaMapExtractor,
     MapExtractor,
     SpatialSoftmaxMapExtractor,
@@ -173,7 +173,7 @@ def test_ppo_trains_saves_and_loads_with_the_impala_encoder(tmp_path: Path) -> N
     np.testing.assert_allclose(loaded.predict(obs, deterministic=True)[0], action, atol=1e-6)
 
     # A fresh interpreter with only the repository on the path: the pickled class reference
-    # `agents.encoders.ImpalaMapExtractor` resolves there too.
+    # `agents.sb3.encoders.ImpalaMapExtractor` resolves there too.
     np.savez(tmp_path / "obs.npz", **obs)
     script = (
         "import json, sys, numpy as np\n"
@@ -213,10 +213,21 @@ def test_every_map_mode_builds_the_same_policy_class() -> None:
 
 
 def test_the_encoders_are_importable_from_the_agents_package() -> None:
-    import agents.encoders
+    import agents.sb3.encoders
 
-    assert ImpalaMapExtractor.__module__ == "agents.encoders"
-    assert agents.encoders.SpatialSoftmaxMapExtractor is SpatialSoftmaxMapExtractor
+    assert ImpalaMapExtractor.__module__ == "agents.sb3.encoders"
+    assert agents.sb3.encoders.SpatialSoftmaxMapExtractor is SpatialSoftmaxMapExtractor
+
+
+def test_a_recipe_naming_the_encoders_old_module_resolves_to_its_new_place() -> None:
+    from agents.sb3.recipes import algorithm_kwargs, load_objects
+
+    recipe = {"policy_kwargs": {"features_extractor_class": "agents.encoders.ImpalaMapExtractor"}}
+    assert algorithm_kwargs(recipe)["policy_kwargs"]["features_extractor_class"] is (
+        ImpalaMapExtractor
+    )
+    assert load_objects(recipe)["policy_kwargs"]["features_extractor_class"] is (ImpalaMapExtractor)
+    assert load_objects({"n_epochs": 10}) == {}
 
 
 @pytest.mark.parametrize(
@@ -256,13 +267,13 @@ def test_bad_observation_spaces_are_rejected() -> None:
 
 
 def test_a_recipe_names_its_encoder_by_dotted_path(tmp_path: Path) -> None:
-    from agents.learned import LearnedAgent
-    from agents.train import algorithm_kwargs
+    from agents.sb3.learned import LearnedAgent
+    from agents.sb3.recipes import algorithm_kwargs
     from tests.recipes import train_with_recipe
 
     policy_kwargs = {
         "log_std_init": -1.0,
-        "features_extractor_class": "agents.encoders.ImpalaMapExtractor",
+        "features_extractor_class": "agents.sb3.encoders.ImpalaMapExtractor",
         "features_extractor_kwargs": {"channels": [8, 16, 16], "map_features": 64},
     }
     run_dir = train_with_recipe(tmp_path, "gpis", policy_kwargs=policy_kwargs)

@@ -13,7 +13,8 @@ import pytest
 from experiments.maps import env_settings, start_map
 from experiments.paper import cli, episodes, scripted_touch
 from experiments.paper.priors import PRIOR_OPTIONS
-from tactile_search import _core
+from tactile_search import ENV_ID, _core
+from tactile_search.seed_ranges import VALIDATION
 
 BOUNDS = ((-0.3, 0.3), (0.0, 0.3))
 
@@ -183,7 +184,7 @@ def test_hand_geometry_derives_the_joint_offset_from_the_scene() -> None:
     assert base["reach"] == pytest.approx(base["joint_offset"] + base["finger_length"])
 
 
-@pytest.mark.parametrize("seed", [1_000_000, 1_000_003])
+@pytest.mark.parametrize("seed", [VALIDATION[0], VALIDATION[0] + 3])
 @pytest.mark.parametrize(
     "overrides",
     [{}, {"circle_prior_diameter": 0.03, "free_space_offset": None, "prior_mean": 0.02}],
@@ -191,7 +192,7 @@ def test_hand_geometry_derives_the_joint_offset_from_the_scene() -> None:
 def test_the_environment_and_the_experiments_start_from_the_same_prior(seed, overrides) -> None:
     """One code path: the env's map after reset equals, bit for bit, a map started by the
     experiments from the same scene's slice with ``_core.depth_prior``."""
-    env = gym.make("tactile_search/CupboardSearch-v0", **overrides)
+    env = gym.make(ENV_ID, **overrides)
     env.reset(seed=seed)
     state = env.unwrapped.render_state()
     scene_config = env.unwrapped.config.scene_dict()
@@ -221,7 +222,7 @@ def test_depth_prior_rows_follow_the_settings() -> None:
 
 
 def test_scripted_touch_keeps_the_hand_clear_of_a_jar() -> None:
-    scene = _core.Scene(1_000_000)
+    scene = _core.Scene(VALIDATION[0])
     hand = scripted_touch.Hand.of(scene)
     one = jars(("round", (0.0, 0.15), 0.025, 0.0))
     assert not scripted_touch.hand_clear((0.0, 0.15, 0.0), one, -1, hand)
@@ -253,8 +254,8 @@ def test_tiny_run_writes_every_figure_and_the_table(tmp_path) -> None:
         per_seed = list(csv.DictReader(f))
     # Validation seeds, and real touch: the scripted finger touched jars in every episode.
     assert {int(r["seed"]) for r in per_seed} == {
-        episodes.VALIDATION_SEED,
-        episodes.VALIDATION_SEED + 1,
+        VALIDATION[0],
+        VALIDATION[0] + 1,
     }
     assert all(int(r["contacts"]) > 0 for r in per_seed)
     text = md.read_text()

@@ -142,7 +142,7 @@ class _AlternatingProber:
 
 
 def test_an_evaluation_episode_ends_at_the_envs_own_time_limit_in_the_probe_mode() -> None:
-    from agents.scripted.rollout import run_episodes
+    from agents.rollout import run_episodes
 
     agent = _AlternatingProber()
     (result,) = run_episodes(agent, [1_000_001], action_mode="probe", map="none")
@@ -176,8 +176,8 @@ def test_a_probes_motions_replayed_in_the_wrist_mode_reproduce_it() -> None:
 def test_an_example_gif_of_a_prober_draws_every_other_motion_not_every_probe(tmp_path) -> None:
     from PIL import Image
 
-    from agents.evaluate import record_gif
-    from agents.scripted.rollout import run_episodes
+    from agents.evaluation.gifs import record_gif
+    from agents.rollout import run_episodes
 
     settings = {"map": "none", "action_mode": "probe"}
     (result,) = run_episodes(_AlternatingProber(), [1_000_001], max_steps=6, **settings)

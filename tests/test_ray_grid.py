@@ -16,10 +16,11 @@ pytest.importorskip("stable_baselines3")
 import ray
 from ray.cluster_utils import Cluster
 
-from agents import ray_grid
-from agents.evaluate import evaluate, model_digest
-from agents.grid import TrainingTrial, evaluate_shard, shards, train_trial
-from agents.ray_session import connect
+from agents.evaluation.evaluation import evaluate
+from agents.grid import ray_scheduler
+from agents.grid.ray_session import connect
+from agents.grid.trials import TrainingTrial, evaluate_shard, shards, train_trial
+from agents.run_dir import model_digest
 
 # A few hundred steps a trial: two rollouts of 2 envs x 64 steps.
 TIMESTEPS = 256
@@ -60,14 +61,14 @@ def test_cluster_has_two_nodes(cluster) -> None:
 
 
 def test_grid_on_ray_equals_the_grid_run_one_trial_after_another(cluster, tmp_path) -> None:
-    on_ray = ray_grid.train_on_ray(tiny_trials(tmp_path / "ray"))
+    on_ray = ray_scheduler.train_on_ray(tiny_trials(tmp_path / "ray"))
     here = [train_trial(trial) for trial in tiny_trials(tmp_path / "local")]
     assert [d.name for d in on_ray] == [d.name for d in here]
     for ray_run, local_run in zip(on_ray, here, strict=True):
         assert model_digest(ray_run / "model.zip") == model_digest(local_run / "model.zip")
 
     specs_ray = [*map(str, on_ray), "random"]
-    ray_grid.evaluate_on_ray(
+    ray_scheduler.evaluate_on_ray(
         specs_ray,
         out=tmp_path / "eval_ray",
         episodes=EPISODES,
@@ -86,19 +87,19 @@ def test_grid_on_ray_equals_the_grid_run_one_trial_after_another(cluster, tmp_pa
 
     # Run again: the finished runs are reused (not retrained), every row is reused.
     before = {d: (d / "model.zip").stat().st_mtime_ns for d in on_ray}
-    again = ray_grid.train_on_ray(tiny_trials(tmp_path / "ray"))
+    again = ray_scheduler.train_on_ray(tiny_trials(tmp_path / "ray"))
     assert {d: (d / "model.zip").stat().st_mtime_ns for d in again} == before
 
 
 def test_evaluation_resumes_from_the_rows_a_stopped_grid_kept(cluster, tmp_path, capsys) -> None:
     out = tmp_path / "eval"
-    ray_grid.evaluate_on_ray(["random"], out=out, episodes=2, shard_episodes=1, gifs=False)
+    ray_scheduler.evaluate_on_ray(["random"], out=out, episodes=2, shard_episodes=1, gifs=False)
     complete = rows(out / "episodes.csv")
     # A stop after the first shard: only its row was written.
     lines = (out / "episodes.csv").read_text().splitlines(keepends=True)
     (out / "episodes.csv").write_text("".join(lines[:2]))
     capsys.readouterr()
-    ray_grid.evaluate_on_ray(["random"], out=out, episodes=2, shard_episodes=1, gifs=False)
+    ray_scheduler.evaluate_on_ray(["random"], out=out, episodes=2, shard_episodes=1, gifs=False)
     assert "reusing 1 episodes" in capsys.readouterr().out
     assert rows(out / "episodes.csv") == complete
 
@@ -107,8 +108,8 @@ def test_a_failing_trial_is_reported_and_the_rest_of_the_grid_finishes(cluster, 
     good = tiny_trials(tmp_path / "runs", maps=("none",))
     # An unknown algorithm fails inside the trial, on every attempt.
     bad = TrainingTrial("not_an_algo", "none", 0, str((tmp_path / "runs").resolve()), 256, 1)
-    with pytest.raises(ray_grid.GridError, match="not_an_algo_none_seed0") as caught:
-        ray_grid.train_on_ray([good[0], bad], max_failures=1)
+    with pytest.raises(ray_scheduler.GridError, match="not_an_algo_none_seed0") as caught:
+        ray_scheduler.train_on_ray([good[0], bad], max_failures=1)
     assert "1 of 2 training trials failed" in str(caught.value)
     assert (good[0].run_dir / "model.zip").is_file()
 
@@ -123,7 +124,7 @@ def test_trials_and_shards_refuse_what_they_cannot_run(tmp_path) -> None:
     assert shards([1, 2, 3, 4, 5], 2) == [[1, 2], [3, 4], [5]]
     with pytest.raises(ValueError, match="each trial may appear once"):
         trial = tiny_trials(tmp_path, maps=("none",))[0]
-        ray_grid.train_on_ray([trial, trial])
+        ray_scheduler.train_on_ray([trial, trial])
 
 
 def test_a_shard_runs_the_episodes_of_its_seeds() -> None:
@@ -132,7 +133,8 @@ def test_a_shard_runs_the_episodes_of_its_seeds() -> None:
 
 
 def test_the_pipeline_gives_the_same_table_on_ray_and_locally(cluster, tmp_path) -> None:
-    from agents.pipeline import Budget, run_budget
+    from agents.grid.budgets import Budget
+    from agents.grid.pipeline import run_budget
 
     tables = {}
     for scheduler in ("ray", "local"):

@@ -28,17 +28,16 @@ from PIL import Image
 
 pytest.importorskip("stable_baselines3")
 
-from agents import evaluate as evaluate_module
-from agents.evaluate import (
-    EPISODE_COLUMNS,
-    evaluate,
-    gif_drawn_by,
-    gif_provenance,
-    read_episodes_csv,
-)
-from agents.learned import LearnedAgent
-from agents.seed_ranges import VALIDATION
-from agents.train import checkpoints, load_hyperparams, main, train
+from agents.evaluation import evaluation as evaluate_module
+from agents.evaluation.episodes_csv import EPISODE_COLUMNS, read_episodes_csv
+from agents.evaluation.evaluation import evaluate
+from agents.evaluation.gifs import gif_drawn_by, gif_provenance
+from agents.run_dir import checkpoints
+from agents.sb3.learned import LearnedAgent
+from agents.sb3.recipes import load_hyperparams
+from agents.sb3.training import train
+from agents.train import main
+from tactile_search.seed_ranges import VALIDATION
 
 REPO = Path(__file__).resolve().parents[1]
 ROLLOUT = 2 * load_hyperparams("ppo", "none")["n_steps"]  # --n-envs 2 x the recipe's n_steps
@@ -218,7 +217,7 @@ def test_resuming_needs_a_checkpoint_and_a_fresh_start_keeps_one(interrupted_run
     shutil.copytree(interrupted_run["run_dir"] / "checkpoints", run_dir / "checkpoints")
     with pytest.raises(ValueError, match="unfinished run with a checkpoint"):
         train("ppo", "none", out=tmp_path, seed=SEED)
-    with pytest.raises(ValueError, match="checkpoint_every must be an int >= 1"):
+    with pytest.raises(ValueError, match="checkpoint_every must be at least 1"):
         train("ppo", "none", out=tmp_path, seed=SEED, checkpoint_every=0)
 
 

@@ -18,10 +18,10 @@ from ray.rllib.core.columns import Columns
 from ray.rllib.env.env_context import EnvContext
 from ray.rllib.env.single_agent_env_runner import SingleAgentEnvRunner
 
-from agents.rllib_env import make_env, register
-from agents.rllib_module import CupboardSearchRLModule
-from agents.rllib_ppo import build_config, train_rllib
-from agents.train import TRAIN_LAYOUT_SEEDS
+from agents.rllib.env import make_env, register
+from agents.rllib.module import CupboardSearchRLModule
+from agents.rllib.training import build_config, train_rllib
+from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS
 from tactile_search.envs.vector import CupboardSearchVectorEnv
 
 # Every env runner registers its env with gymnasium under one name (RLlib's doing).

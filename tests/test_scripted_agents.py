@@ -8,8 +8,8 @@ from typing import Any
 import numpy as np
 import pytest
 
+from agents.rollout import run_episodes
 from agents.scripted import SCRIPTED_AGENTS, GpisPlanner, OracleAgent, RandomAgent
-from agents.scripted.rollout import run_episodes
 from tactile_search import CupboardSearchEnv
 
 # Held-in seeds the planner solves quickly (the measurement uses 1_000_000 onwards).

@@ -11,10 +11,10 @@ import pytest
 
 pytest.importorskip("stable_baselines3")
 
-from agents.evaluate import evaluation_seeds
 from agents.evaluate import main as evaluate_main
-from agents.seed_ranges import SPLITS, TEST, TRAINING, VALIDATION, held_out_seeds
-from agents.train import make_training_env
+from agents.evaluation.evaluation import evaluation_seeds
+from agents.sb3.training_env import make_training_env
+from tactile_search.seed_ranges import SPLITS, TEST, TRAINING, VALIDATION, held_out_seeds
 
 
 def in_range(seed: int, bounds: tuple[int, int]) -> bool:

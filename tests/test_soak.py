@@ -1,10 +1,11 @@
-"""The quick soak (``benchmarks/soak.py --quick``, about 30 s): every asserted check passes.
+"""The quick soak (``python -m benchmarks.soak --quick``, about 30 s): every asserted check
+passes.
 
 At the quick scale the live-heap leak check and every correctness check are asserted; resident
 memory after ``malloc_trim`` and step time through the run and by step index are measured
 and printed but only asserted by the full run (30 s is too short for the allocator's heap to
 settle or for a few replayed episodes to say anything about step time; see the module
-docstring of ``benchmarks/soak.py``).
+docstrings of ``benchmarks.soak`` and ``benchmarks.soak.analysis``).
 """
 
 from __future__ import annotations

@@ -10,7 +10,7 @@ import pytest
 import torch
 import yaml
 
-from agents.train import train, warm_start
+from agents.sb3.training import train, warm_start
 from tactile_search.envs.sb3_vec_env import CupboardSearchSb3VecEnv
 from tests.recipes import train_with_recipe
 

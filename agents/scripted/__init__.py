@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from agents.scripted.base import Agent
+from agents.rollout import Agent
 from agents.scripted.gpis_planner import GpisPlanner
 from agents.scripted.oracle_agent import OracleAgent
 from agents.scripted.random_agent import RandomAgent

@@ -2,8 +2,9 @@
 of ``docs/PAPER.md``.
 
 CLI: ``python -m experiments.paper --out docs/paper [--seeds N] [--first-seed S] [--tiny]``
-(``make paper``). Layout seeds default to the validation range (``VALIDATION_SEED``
-onwards, DESIGN.md section 7), since the default prior is chosen on them.
+(``make paper``). Layout seeds default to the first of the validation range
+(``tactile_search.seed_ranges.VALIDATION``, ``docs/DESIGN.md`` §7), since the default prior is
+chosen on them.
 """
 
 from __future__ import annotations
@@ -16,17 +17,16 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks.gpis_append import DEFAULT_MAX_ROWS, build_map, time_appends, time_full
 from experiments.paper.episodes import (
     DEFAULT_DEPTH_NOISE,
     DEPTH_NOISE_LEVELS,
     SHAPES,
-    VALIDATION_SEED,
     evaluate,
     maps_for,
     run_episode,
 )
 from experiments.paper.figures import fig3, fig4, fig9, fig_maps
+from experiments.paper.gpis_timing import DEFAULT_MAX_ROWS, build_map, time_appends, time_full
 from experiments.paper.priors import POSITIVE_MEAN, option_named
 from experiments.paper.tables import (
     choose_default,
@@ -35,6 +35,7 @@ from experiments.paper.tables import (
     summarise,
     write_csv,
 )
+from tactile_search.seed_ranges import VALIDATION
 
 TABLE_START = "<!-- paper-table:start -->"
 TABLE_END = "<!-- paper-table:end -->"
@@ -44,7 +45,7 @@ CELL = 0.005  # grid cell side (m) of the table's maps
 @dataclass
 class Settings:
     seeds: int = 20
-    first_seed: int = VALIDATION_SEED
+    first_seed: int = VALIDATION[0]
     noise_levels: tuple[float, ...] = DEPTH_NOISE_LEVELS
     table_cell: float = CELL
     figure_cell: float = 0.004
@@ -78,7 +79,7 @@ def time_updates(
     sizes: tuple[int, ...], grid: int, repeats: int, full_repeats: int, seed: int = 0
 ) -> list[dict[str, float]]:
     """Fig. 9: median time (ms) of appending one contact and of the full recompute, per n,
-    by the method of ``benchmarks/gpis_append.py`` (its functions)."""
+    by the method of ``experiments.paper.gpis_timing`` (``benchmarks.gpis_append``'s too)."""
     out = []
     for n in sizes:
         appends = time_appends(n, grid, repeats, seed)
@@ -185,8 +186,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument(
         "--first-seed",
         type=int,
-        default=VALIDATION_SEED,
-        help=f"first layout seed (default {VALIDATION_SEED}, the validation range)",
+        default=VALIDATION[0],
+        help=f"first layout seed (default {VALIDATION[0]}, the validation range)",
     )
     parser.add_argument("--tiny", action="store_true", help="2 seeds, coarse grids (a smoke run)")
     parser.add_argument(

@@ -1,8 +1,9 @@
 """One scene per layout seed and jar shape: its depth slices at each noise level, the
 scripted finger's contacts, and the maps and metrics of each prior option.
 
-Seeds are the validation range of DESIGN.md section 7 (``VALIDATION_SEED`` onwards): the
-default prior is chosen on them, so they are not test layouts.
+Seeds are the validation range of ``docs/DESIGN.md`` §7
+(``tactile_search.seed_ranges.VALIDATION``): the default prior is chosen on them, so they are
+not test layouts.
 
 - Depth: the first look's noisy 2D slice; the map starts from the environment's depth prior
   (``experiments.maps.start_map``, i.e. ``_core.depth_prior``) at the environment's default
@@ -32,7 +33,6 @@ from experiments.paper.scripted_touch import TouchLog, follow_surfaces
 from tactile_search import Gpis, _core
 from tactile_search._core import Scene
 
-VALIDATION_SEED = 1_000_000  # first layout seed of the validation range (DESIGN.md §7)
 MISS_DISTANCE = 0.05  # cap of one outline sample's distance (m)
 OUTLINE_SAMPLES = 64
 DEPTH_NOISE_LEVELS = (0.001, 0.002, 0.005)

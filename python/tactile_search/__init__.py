@@ -10,14 +10,17 @@ from tactile_search._core import __version__
 from tactile_search.envs import CupboardSearchEnv, CupboardSearchVectorEnv
 from tactile_search.gpis import Gpis
 
-__all__ = ["CupboardSearchEnv", "CupboardSearchVectorEnv", "Gpis", "__version__"]
+#: The registered id of the environment; import it rather than typing the string.
+ENV_ID = "tactile_search/CupboardSearch-v0"
+
+__all__ = ["ENV_ID", "CupboardSearchEnv", "CupboardSearchVectorEnv", "Gpis", "__version__"]
 
 # No max_episode_steps: the time limit is the episode's own `max_steps` (default from the
 # core), reported by the core as `truncated`, so `gymnasium.make(..., max_steps=N)` truncates
 # at N in the single and the vector envs alike; a registered limit would be a second one.
-if "tactile_search/CupboardSearch-v0" not in gymnasium.registry:
+if ENV_ID not in gymnasium.registry:
     gymnasium.register(
-        id="tactile_search/CupboardSearch-v0",
+        id=ENV_ID,
         entry_point="tactile_search.envs.cupboard_search:CupboardSearchEnv",
         vector_entry_point="tactile_search.envs.vector:CupboardSearchVectorEnv",
     )

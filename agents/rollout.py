@@ -1,12 +1,30 @@
-"""Run an agent for one episode per seed and summarise each episode."""
+"""The ``Agent`` protocol every agent implements (scripted and learned), and the loop that runs
+agents through episodes of ``CupboardSearchEnv`` (``run_episodes``)."""
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
+from typing import Any, Protocol
 
-from agents.scripted.base import Agent
+import numpy as np
+
 from tactile_search import CupboardSearchEnv
+
+
+class Agent(Protocol):
+    """Acts in one episode at a time; ``reset`` starts an episode.
+
+    ``env`` is the unwrapped environment, for static geometry (hand sizes, map bounds) and the
+    oracle; agents that claim not to use ground truth must not call ``render_state``.
+    """
+
+    name: str
+
+    def reset(self, env: CupboardSearchEnv, observation: dict, info: dict) -> None: ...
+
+    def act(self, observation: dict) -> np.ndarray:
+        """A float32 ``(3,)`` action in [-1, 1]."""
+        ...
 
 
 def run_episodes(

@@ -5,7 +5,7 @@ Plain tasks, not Tune trials: a grid of fixed recipes needs no search, and a Tun
 its own start-up and bookkeeping and runs the training in a thread beside Tune's work, which
 measured slower here (``benchmarks/ray_grid.py`` as of the commit that ran the grid on Tune).
 
-Where it runs: connect first (``agents.ray_session.connect``): with no address (neither
+Where it runs: connect first (``agents.grid.ray_session.connect``): with no address (neither
 ``address`` nor ``RAY_ADDRESS``) on this machine with its cores, else on that cluster. Every
 node needs this repository's environment installed (``make build``, or ``pip install`` of
 the package with the ``agents`` extra). On a cluster the run directories must be on a file
@@ -13,7 +13,7 @@ system every node sees (NFS): a trial writes its run there, and a retried or res
 reads its checkpoints back, wherever it runs; an evaluation shard gets its model's files
 sent with it and needs no shared files.
 
-What a trial or shard produces depends only on its fields (``agents.grid``), so the grid run
+What a trial or shard produces depends only on its fields (``agents.grid.trials``), so the grid run
 here gives the models and episode rows of the grid run one trial after another. A trial that
 fails is retried (``max_failures``), resuming from its newest checkpoint; the other trials go
 on, and the failures are reported at the end (``GridError``). A grid stopped half-way resumes
@@ -31,19 +31,16 @@ from typing import Any
 
 import ray
 
-from agents.evaluate import (
-    EPISODE_COLUMNS,
-    Summary,
-    episode_row,
-    evaluate,
-    evaluation_seeds,
-    prepare_evaluation,
-)
-from agents.grid import TrainingTrial, evaluate_shard, run_files, shards, train_trial
+from agents.evaluation.episodes_csv import EPISODE_COLUMNS, episode_row
+from agents.evaluation.evaluation import evaluate, evaluation_seeds, prepare_evaluation
+from agents.evaluation.statistics import Summary
+from agents.grid.trials import TrainingTrial, evaluate_shard, run_files, shards, train_trial
 from agents.scripted import SCRIPTED_AGENTS
 
 # Retries of a failed training trial or evaluation shard before it is reported as failed.
 DEFAULT_MAX_FAILURES = 2
+
+
 # Episodes per evaluation task: small enough to spread 200 layouts over many cores, large
 # enough that loading the model (~0.1 s) is a small part of a task.
 DEFAULT_SHARD_EPISODES = 25
@@ -55,7 +52,7 @@ class GridError(RuntimeError):
 
 @ray.remote
 def _training_task(fields: dict[str, Any]) -> str:
-    """One training trial (``agents.grid.train_trial``): trains, resumes or reuses it."""
+    """One training trial (``agents.grid.trials.train_trial``): trains, resumes or reuses it."""
     return str(train_trial(TrainingTrial(**fields)))
 
 
@@ -113,8 +110,8 @@ def evaluate_on_ray(
     max_failures: int = DEFAULT_MAX_FAILURES,
     gifs: bool = True,
 ) -> list[Summary]:
-    """``agents.evaluate.evaluate`` with the episodes run as Ray tasks: each agent's missing
-    (layout) episodes in slices of ``shard_episodes``, every row appended to
+    """``agents.evaluation.evaluation.evaluate`` with the episodes run as Ray tasks: each
+    agent's missing (layout) episodes in slices of ``shard_episodes``, every row appended to
     ``<out>/episodes.csv`` as its task ends. Then ``evaluate`` writes the table, plots and
     GIFs from those rows (reusing them all), as it does after a run of its own. A task that
     fails is retried ``max_failures`` times; if some still fail, ``GridError`` names them

@@ -10,7 +10,7 @@ an unknown setting raises the env's ``TypeError``, a bad value its ``TypeError``
 Each env runner then holds one ``CupboardSearchVectorEnv`` with all its
 ``num_envs_per_env_runner`` episodes, on one Rust worker thread (``threads=1``: a runner
 reserves one CPU, so its env must not take more), drawing training layouts only
-(``agents.train.TRAIN_LAYOUT_SEEDS``, disjoint from the held-out layouts below 2**32).
+(``agents.sb3.training_env.TRAIN_LAYOUT_SEEDS``, disjoint from the held-out layouts below 2**32).
 
 Seeding contract (vector-entry-point mode):
 
@@ -41,13 +41,17 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from agents.train import TRAIN_LAYOUT_SEEDS
+from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS
 from tactile_search.envs.vector import CupboardSearchVectorEnv
 
 #: The name ``register()`` gives the env in Ray Tune's registry.
 ENV_NAME = "tactile_search-CupboardSearch-rllib-v0"
+
+
 #: Arguments of the vector env that ``make_env`` sets itself (not settings of the env).
 FIXED_KEYS = ("threads", "layout_seeds", "copy")
+
+
 VECTORIZE_HINT = (
     "build it with config.env_runners(gym_env_vectorize_mode="
     "gymnasium.VectorizeMode.VECTOR_ENTRY_POINT), which passes num_envs"

@@ -1,5 +1,5 @@
 """A trained stable-baselines3 model as an evaluation agent (the ``Agent`` protocol of
-``agents/scripted/base.py``): the policy's mode, or samples from it seeded per episode when
+``agents/rollout.py``): the policy's mode, or samples from it seeded per episode when
 the recipe says ``deterministic_evaluation: false``, with the LSTM state carried across steps
 for RecurrentPPO."""
 
@@ -11,7 +11,8 @@ from typing import Any
 
 import numpy as np
 
-from agents.train import algorithm_class, read_run_config
+from agents.run_dir import read_run_config
+from agents.sb3.recipes import algorithm_class, load_objects
 from tactile_search.envs.config import REWARD_KEYS
 
 
@@ -25,8 +26,9 @@ def evaluation_env_kwargs(config: dict[str, Any]) -> dict[str, Any]:
     return {key: value for key, value in env_kwargs.items() if key not in REWARD_KEYS}
 
 
-def load_model(model_path: Path, algo: str) -> Any:
-    """The SB3 model in ``model_path`` (a ``model.zip`` of ``algo``), on the CPU.
+def load_model(model_path: Path, algo: str, recipe: dict[str, Any] | None = None) -> Any:
+    """The SB3 model in ``model_path`` (a ``model.zip`` of ``algo``), on the CPU; with the
+    ``recipe`` that trained it, its classes are the recipe's (``load_objects``).
 
     Raises ``ValueError`` naming the file if it is not a complete zip archive or SB3 cannot
     load it (a truncated or corrupt file, another algorithm's model). The file holds pickled
@@ -49,7 +51,9 @@ def load_model(model_path: Path, algo: str) -> Any:
             f"it has no 'data' member, only {sorted(members)}"
         )
     try:
-        return algorithm_class(algo).load(model_path, device="cpu")
+        return algorithm_class(algo).load(
+            model_path, device="cpu", custom_objects=load_objects(recipe or {})
+        )
     except Exception as err:  # SB3 raises KeyError, pickle and torch errors alike
         raise ValueError(
             f"{model_path} does not load as a {algo} model ({type(err).__name__}: {err})"
@@ -86,7 +90,7 @@ class LearnedAgent:
         #: The settings of the env this agent is evaluated in (``evaluation_env_kwargs``).
         self.env_kwargs: dict[str, Any] = evaluation_env_kwargs(self.config)
         self.name = name or learned_agent_name(self.config["algo"], self.map_mode)
-        self.model = load_model(model_path, self.config["algo"])
+        self.model = load_model(model_path, self.config["algo"], self.config.get("hyperparams"))
         self._check_spaces(model_path)
         self._recurrent = self.config["algo"] == "recurrent_ppo"
         # The policy's mode (argmax, mean) or a sample from it: the recipe says which

@@ -16,7 +16,7 @@ map (``map="none"``) both reduce to the proprio features alone, so every map mod
 the same policy class::
 
     from stable_baselines3 import PPO
-    from agents.encoders import ImpalaMapExtractor
+    from agents.sb3.encoders import ImpalaMapExtractor
 
     model = PPO(
         "MultiInputPolicy",
@@ -31,7 +31,7 @@ The map arrives as SB3's ``preprocess_obs`` leaves it: a uint8 Box with bounds [
 an image to SB3 (``is_image_space`` skips the channel-count check by default, so the
 2-channel map qualifies) and is scaled to [0, 1] unless the policy has
 ``normalize_images=False``. Saved models pickle the class reference
-``agents.encoders.<Class>``: they load wherever this repository's ``agents`` is importable.
+``agents.sb3.encoders.<Class>``: they load wherever this repository's ``agents`` is importable.
 """
 
 from __future__ import annotations
@@ -46,30 +46,14 @@ from stable_baselines3.common.preprocessing import get_flattened_obs_dim
 from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
 from torch import nn
 
+from tactile_search._validation import as_count
+
 __all__ = [
     "ImpalaMapExtractor",
     "MapExtractor",
     "SpatialSoftmaxMapExtractor",
     "map_feature_shape",
 ]
-
-
-def _positive_int(name: str, value: Any) -> int:
-    """``value`` as an int, checked positive (``bool`` is not accepted as an int)."""
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise TypeError(f"{name} must be a positive int, got {type(value).__name__} {value!r}")
-    if value < 1:
-        raise ValueError(f"{name} must be a positive int, got {value!r}")
-    return value
-
-
-def _non_negative_int(name: str, value: Any) -> int:
-    """``value`` as an int, checked >= 0."""
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise TypeError(f"{name} must be an int >= 0, got {type(value).__name__} {value!r}")
-    if value < 0:
-        raise ValueError(f"{name} must be an int >= 0, got {value!r}")
-    return value
 
 
 def _positive_ints(name: str, values: Any) -> tuple[int, ...]:
@@ -81,7 +65,7 @@ def _positive_ints(name: str, values: Any) -> tuple[int, ...]:
         )
     if len(values) == 0:
         raise ValueError(f"{name} must be a non-empty sequence of positive ints, got {values!r}")
-    return tuple(_positive_int(f"{name}[{i}]", v) for i, v in enumerate(values))
+    return tuple(as_count(f"{name}[{i}]", v) for i, v in enumerate(values))
 
 
 class MapExtractor(BaseFeaturesExtractor):
@@ -118,7 +102,7 @@ class MapExtractor(BaseFeaturesExtractor):
             )
         if not isinstance(map_key, str):
             raise TypeError(f"map_key must be a str, got {type(map_key).__name__} {map_key!r}")
-        proprio_features = _non_negative_int("proprio_features", proprio_features)
+        proprio_features = as_count("proprio_features", proprio_features, minimum=0)
         if not isinstance(channels_last, bool):
             raise TypeError(f"channels_last must be a bool, got {type(channels_last).__name__}")
         # BaseFeaturesExtractor asserts features_dim > 0; the real value is set below (as
@@ -233,8 +217,8 @@ class ImpalaMapExtractor(MapExtractor):
         channels_last: bool = True,
     ) -> None:
         self.channels = _positive_ints("channels", channels)
-        self.map_features = _positive_int("map_features", map_features)
-        self.res_blocks = _non_negative_int("res_blocks", res_blocks)
+        self.map_features = as_count("map_features", map_features)
+        self.res_blocks = as_count("res_blocks", res_blocks, minimum=0)
         super().__init__(
             observation_space,
             proprio_features=proprio_features,

@@ -1,7 +1,8 @@
-"""The evaluation protocol's three disjoint ranges of layout seeds (``../DESIGN.md`` §7).
+"""The evaluation protocol's three disjoint ranges of layout seeds (``docs/DESIGN.md`` §7),
+defined here once: the agents, the benchmarks, the experiments and the docs import them.
 
 - ``TRAINING`` ``[2**32, 2**63)``: every layout a training run draws (``agents.train``,
-  ``agents.rllib_env``).
+  the RLlib env, the soak).
 - ``VALIDATION`` ``[1,000,000, 2,000,000)``: every choice made while developing (recipes,
   planner constants, ablations) is measured here; the default of ``agents.evaluate``.
 - ``TEST`` ``[2,000,000, 3,000,000)``: read only by the final results (``make results``,

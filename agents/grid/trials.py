@@ -2,7 +2,7 @@
 map mode and training seed) and an evaluation shard (one agent on a slice of the layouts).
 
 ``agents.pipeline`` runs them one after another in this process, or hands them to Ray
-(``agents.ray_grid``: Ray tasks, on this machine or a cluster). What a unit
+(``agents.grid.ray_scheduler``: Ray tasks, on this machine or a cluster). What a unit
 produces depends only on its own fields, never on where or in what order it ran:
 
 - a trial's model is fixed by its algorithm's recipe, map mode, seed, timesteps and
@@ -10,7 +10,7 @@ produces depends only on its own fields, never on where or in what order it ran:
   thread count; the environment batch's threads do not change its results);
 - a shard's rows are fixed by the agent (its model's contents) and the layout seeds: every
   episode starts from its layout seed, and a scripted agent with a random generator is
-  seeded per episode (``agents.evaluate.SeededPerEpisode``).
+  seeded per episode (``agents.evaluation.agent_specs.SeededPerEpisode``).
 """
 
 from __future__ import annotations
@@ -20,9 +20,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from agents.train import checkpoints, run_name, train
+from agents.run_dir import checkpoints, run_name
+from agents.sb3.training import train
 
-# The files of a run directory an evaluation needs (``agents.learned.LearnedAgent``).
+# The files of a run directory an evaluation needs (``agents.sb3.learned.LearnedAgent``).
 EVALUATED_RUN_FILES = ("model.zip", "config.yml")
 
 
@@ -106,17 +107,17 @@ def evaluate_shard(
     spec: str, files: dict[str, bytes] | None, seeds: list[int]
 ) -> list[dict[str, Any]]:
     """One episode per seed of the agent ``spec`` (a scripted name, or a run whose ``files``
-    are given), as ``agents.scripted.rollout.run_episodes`` summarises them. Uses one torch
-    thread, as ``agents.evaluate.evaluate`` does."""
-    from agents.evaluate import make_agent
-    from agents.scripted.rollout import run_episodes
+    are given), as ``agents.rollout.run_episodes`` summarises them. Uses one torch
+    thread, as ``agents.evaluation.evaluation.evaluate`` does."""
+    from agents.evaluation.agent_specs import make_agent
+    from agents.rollout import run_episodes
 
     if files is None:
         agent, env_kwargs = make_agent(spec)
     else:
         import torch
 
-        from agents.learned import LearnedAgent
+        from agents.sb3.learned import LearnedAgent
 
         torch.set_num_threads(1)
         with tempfile.TemporaryDirectory(prefix="tactile_search_run_") as tmp:

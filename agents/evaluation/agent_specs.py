@@ -1,0 +1,82 @@
+"""The agents an evaluation is given by name: a scripted agent's name or a training run's
+directory, made into an agent with the settings of the env it is evaluated in, with unique
+names (training seeds of one agent told apart)."""
+
+from __future__ import annotations
+
+import inspect
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from agents.scripted import SCRIPTED_AGENTS
+
+# How a learned agent picks its actions: as its recipe says (deterministic_evaluation), the
+# policy's mode, or a sample from it (seeded per episode).
+ACTIONS = ("recipe", "mode", "sample")
+
+
+def _deterministic(actions: str) -> bool | None:
+    if actions not in ACTIONS:
+        raise ValueError(f"actions must be one of {ACTIONS}, got {actions!r}")
+    return {"recipe": None, "mode": True, "sample": False}[actions]
+
+
+def make_agent(spec: str, actions: str = "recipe") -> tuple[Any, dict[str, Any]]:
+    """An agent and the settings of the env it is evaluated in (with its ``map``) from a
+    scripted name (the GPIS map) or a run directory (its recipe's env settings without the
+    reward terms: ``agents.sb3.learned.evaluation_env_kwargs``), its actions chosen as
+    ``actions`` says (``ACTIONS``).
+
+    A scripted agent that takes a ``seed`` (the random agent) is made afresh for every
+    episode, seeded with the episode's layout seed (``SeededPerEpisode``)."""
+    if spec in SCRIPTED_AGENTS:
+        factory = SCRIPTED_AGENTS[spec]
+        if "seed" in inspect.signature(factory).parameters:
+            return SeededPerEpisode(factory), {"map": "gpis"}
+        return factory(), {"map": "gpis"}
+    from agents.sb3.learned import LearnedAgent
+
+    agent = LearnedAgent(Path(spec), deterministic=_deterministic(actions))
+    return agent, agent.env_kwargs
+
+
+class SeededPerEpisode:
+    """An agent with its own random generator, made afresh at every reset and seeded with
+    the episode's layout seed: an episode's actions then do not depend on the episodes run
+    before it, so an evaluation resumed part-way gives the rows of an uninterrupted one."""
+
+    def __init__(self, factory: Any) -> None:
+        self._factory = factory
+        self._agent = factory(seed=0)
+        self.name: str = self._agent.name
+
+    def reset(self, env: Any, observation: dict, info: dict) -> None:
+        self._agent = self._factory(seed=env.np_random_seed)
+        self._agent.reset(env, observation, info)
+
+    def act(self, observation: dict) -> np.ndarray:
+        return self._agent.act(observation)
+
+
+def seeded_name(algo: str, map_mode: str, seed: int) -> str:
+    """The evaluated name of one training seed's run when an agent has several
+    (``agents.evaluation.comparison.agent_and_seed`` reads it back)."""
+    return f"{algo} ({map_mode} map, seed {seed})"
+
+
+def unique_names(agents: Sequence[Any], specs: Sequence[str]) -> list[str]:
+    """The agents' names, made unique: learned agents of the same algorithm and map (several
+    training seeds) get their run's seed in the name."""
+    given = [agent.name for agent in agents]
+    names = list(given)
+    for i, (agent, spec) in enumerate(zip(agents, specs, strict=True)):
+        if given.count(agent.name) > 1 and spec not in SCRIPTED_AGENTS:
+            config = agent.config
+            names[i] = seeded_name(config["algo"], config["map"], config["seed"])
+    repeated = sorted({name for name in names if names.count(name) > 1})
+    if repeated:
+        raise ValueError(f"each agent may be evaluated once, got {repeated} more than once")
+    return names

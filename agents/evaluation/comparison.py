@@ -1,0 +1,264 @@
+"""Results pooled over training seeds, and differences between agents with intervals.
+
+An evaluation's ``episodes.csv`` holds one row per agent and held-out layout; a learned agent
+trained with several seeds appears once per seed (``ppo (gpis map, seed 1)``). Here:
+
+- ``pool``: per agent, the success pooled over its training seeds and layouts, a 95 %
+  bootstrap interval of it, each seed's success and the spread across seeds (max - min);
+  tips, time-outs and jar displacement per episode (an episode ends when the target is
+  touched, when a jar tips, or at the time limit: a failure without a tip is a time-out),
+  and the wrist motions an action costs (the time limit counts motions; a probe is many);
+- ``difference``: agent A's pooled success minus agent B's, with a 95 % bootstrap interval
+  over layouts and training seeds: each resample draws the layouts with replacement (the
+  same layouts for both agents: every agent meets the same ones, so the comparison is
+  paired) and, independently for each agent, its training seeds with replacement;
+- ``comparison_markdown``: both as markdown tables, and whether A beats B with
+  non-overlapping (Wilson) intervals in every training seed, seed i against seed i.
+
+``python -m agents.comparison docs/results/episodes.csv`` prints the tables.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from agents.evaluation.statistics import wilson_interval
+from agents.sb3.learned import learned_agent_name
+
+# The form of agents.evaluation.agent_specs.seeded_name:
+# "ppo (gpis map, seed 1)" -> "ppo (gpis map)", seed 1.
+_WITH_SEED = re.compile(r"^(?P<algo>.+) \((?P<map>[^,()]+) map, seed (?P<seed>\d+)\)$")
+
+
+BOOTSTRAP_SAMPLES = 10_000
+
+
+# The bootstrap's own generator, fixed so that a table is the same every time it is made.
+BOOTSTRAP_SEED = 0
+
+
+def agent_and_seed(name: str) -> tuple[str, int | None]:
+    """An evaluated agent's name split into the agent and its training seed (None for a
+    scripted agent or a single run)."""
+    match = _WITH_SEED.match(name)
+    if match is None:
+        return name, None
+    return learned_agent_name(match["algo"], match["map"]), int(match["seed"])
+
+
+@dataclasses.dataclass(frozen=True)
+class AgentResults:
+    """One agent's successes as a (training seeds x layouts) matrix, and its other figures."""
+
+    agent: str
+    training_seeds: tuple[int | None, ...]
+    layouts: tuple[int, ...]
+    success: np.ndarray  # (seeds, layouts) of 0/1
+    tips: np.ndarray  # (seeds, layouts) of 0/1 (an episode with a tip)
+    timeouts: np.ndarray  # (seeds, layouts) of 0/1 (neither success nor tip: the time limit)
+    displacement_mm: np.ndarray  # (seeds, layouts)
+    motions: np.ndarray  # (seeds, layouts): wrist motions (the env's steps)
+    actions: np.ndarray  # (seeds, layouts): the agent's actions (a probe, or a motion)
+
+    def restricted(self, layouts: Sequence[int]) -> AgentResults:
+        index = [self.layouts.index(seed) for seed in layouts]
+        return dataclasses.replace(
+            self,
+            layouts=tuple(layouts),
+            success=self.success[:, index],
+            tips=self.tips[:, index],
+            timeouts=self.timeouts[:, index],
+            displacement_mm=self.displacement_mm[:, index],
+            motions=self.motions[:, index],
+            actions=self.actions[:, index],
+        )
+
+
+def agent_results(rows: Sequence[dict[str, Any]]) -> dict[str, AgentResults]:
+    """Every agent's results, on the layouts all of its training seeds met; agents in the
+    order they first appear."""
+    by_agent: dict[str, dict[int | None, dict[int, dict[str, Any]]]] = {}
+    for row in rows:
+        agent, seed = agent_and_seed(row["agent"])
+        by_agent.setdefault(agent, {}).setdefault(seed, {})[int(row["seed"])] = row
+    results = {}
+    for agent, by_seed in by_agent.items():
+        seeds = tuple(sorted(by_seed, key=lambda s: -1 if s is None else s))
+        layouts = tuple(sorted(set.intersection(*(set(by_seed[s]) for s in seeds))))
+        if not layouts:
+            raise ValueError(f"{agent}: its training seeds share no evaluated layout")
+
+        def matrix(
+            get: Any, by_seed: dict = by_seed, seeds: tuple = seeds, layouts: tuple = layouts
+        ) -> np.ndarray:
+            return np.array([[get(by_seed[s][layout]) for layout in layouts] for s in seeds])
+
+        results[agent] = AgentResults(
+            agent=agent,
+            training_seeds=seeds,
+            layouts=layouts,
+            success=matrix(lambda r: float(r["success"])),
+            tips=matrix(lambda r: float(int(r["tips"]) > 0)),
+            timeouts=matrix(lambda r: float(not r["success"] and int(r["tips"]) == 0)),
+            displacement_mm=matrix(lambda r: 1000.0 * float(r["jar_displacement"])),
+            motions=matrix(lambda r: float(r["steps"])),
+            actions=matrix(lambda r: float(r["actions"])),
+        )
+    return results
+
+
+def _bootstrap_means(
+    matrices: Sequence[np.ndarray], rng: np.random.Generator, samples: int
+) -> list[np.ndarray]:
+    """For each (seeds x layouts) matrix, ``samples`` bootstrap means: the layouts drawn with
+    replacement once per sample for all matrices (paired), each matrix's seeds drawn with
+    replacement on their own."""
+    n_layouts = matrices[0].shape[1]
+    layout_weights = rng.multinomial(n_layouts, np.full(n_layouts, 1 / n_layouts), samples)
+    layout_weights = layout_weights / n_layouts
+    means = []
+    for matrix in matrices:
+        n_seeds = matrix.shape[0]
+        seed_weights = rng.multinomial(n_seeds, np.full(n_seeds, 1 / n_seeds), samples) / n_seeds
+        means.append(np.einsum("bs,sl,bl->b", seed_weights, matrix, layout_weights))
+    return means
+
+
+@dataclasses.dataclass(frozen=True)
+class Pooled:
+    """One agent's pooled figures."""
+
+    agent: str
+    training_seeds: tuple[int | None, ...]
+    episodes: int
+    success: float
+    success_low: float
+    success_high: float
+    per_seed: tuple[tuple[int | None, float, float, float], ...]  # seed, rate, Wilson low, high
+    spread: float  # max - min of the per-seed success rates
+    tip_rate: float
+    timeout_rate: float
+    displacement_mm: float
+    motions_per_action: float
+
+
+def pool(results: AgentResults, samples: int = BOOTSTRAP_SAMPLES) -> Pooled:
+    """``results`` pooled over training seeds and layouts (see the module docstring)."""
+    rng = np.random.default_rng(BOOTSTRAP_SEED)
+    (means,) = _bootstrap_means([results.success], rng, samples)
+    n_layouts = len(results.layouts)
+    per_seed = []
+    for seed, row in zip(results.training_seeds, results.success, strict=True):
+        successes = int(row.sum())
+        per_seed.append((seed, successes / n_layouts, *wilson_interval(successes, n_layouts)))
+    rates = [rate for _, rate, _, _ in per_seed]
+    return Pooled(
+        agent=results.agent,
+        training_seeds=results.training_seeds,
+        episodes=int(results.success.size),
+        success=float(results.success.mean()),
+        success_low=float(np.quantile(means, 0.025)),
+        success_high=float(np.quantile(means, 0.975)),
+        per_seed=tuple(per_seed),
+        spread=max(rates) - min(rates),
+        tip_rate=float(results.tips.mean()),
+        timeout_rate=float(results.timeouts.mean()),
+        displacement_mm=float(results.displacement_mm.mean()),
+        motions_per_action=float(results.motions.sum() / max(results.actions.sum(), 1.0)),
+    )
+
+
+def difference(
+    a: AgentResults, b: AgentResults, samples: int = BOOTSTRAP_SAMPLES
+) -> tuple[float, float, float]:
+    """A's pooled success minus B's on the layouts both met, and its 95 % bootstrap interval
+    (paired over layouts, over each agent's training seeds)."""
+    layouts = sorted(set(a.layouts) & set(b.layouts))
+    if not layouts:
+        raise ValueError(f"{a.agent} and {b.agent} share no evaluated layout")
+    a, b = a.restricted(layouts), b.restricted(layouts)
+    rng = np.random.default_rng(BOOTSTRAP_SEED)
+    mean_a, mean_b = _bootstrap_means([a.success, b.success], rng, samples)
+    diffs = mean_a - mean_b
+    return (
+        float(a.success.mean() - b.success.mean()),
+        float(np.quantile(diffs, 0.025)),
+        float(np.quantile(diffs, 0.975)),
+    )
+
+
+def beats_in_every_seed(a: Pooled, b: Pooled) -> bool | None:
+    """Whether A's Wilson interval lies above B's in every training seed (seed i against
+    seed i); None when they were not trained with the same seeds."""
+    seeds_a = {seed: (low, high) for seed, _, low, high in a.per_seed}
+    seeds_b = {seed: (low, high) for seed, _, low, high in b.per_seed}
+    if set(seeds_a) != set(seeds_b) or None in seeds_a:
+        return None
+    return all(seeds_a[s][0] > seeds_b[s][1] for s in seeds_a)
+
+
+def _percent(value: float) -> str:
+    return f"{100 * value:.1f}%"
+
+
+def _seed_text(seed: int | None) -> str:
+    return "-" if seed is None else str(seed)
+
+
+def comparison_markdown(
+    rows: Sequence[dict[str, Any]], reference: str | None = None, samples: int = BOOTSTRAP_SAMPLES
+) -> str:
+    """The pooled table, the per-seed table and the differences of ``reference`` (default:
+    the first agent) against every other agent, as markdown."""
+    results = agent_results(rows)
+    pooled = {agent: pool(r, samples) for agent, r in results.items()}
+    reference = reference or next(iter(results))
+    if reference not in results:
+        raise ValueError(f"reference must be one of {sorted(results)}, got {reference!r}")
+    lines = [
+        "| agent | training seeds | episodes | success, pooled | 95 % CI (bootstrap) "
+        "| spread across seeds | episodes with a tip | episodes timed out "
+        "| jar displacement (mm per episode) | wrist motions per action |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for p in pooled.values():
+        seeds = ", ".join(_seed_text(s) for s in p.training_seeds)
+        lines.append(
+            f"| {p.agent} | {seeds} | {p.episodes} | {_percent(p.success)} "
+            f"| [{_percent(p.success_low)}, {_percent(p.success_high)}] "
+            f"| {_percent(p.spread)} | {_percent(p.tip_rate)} | {_percent(p.timeout_rate)} "
+            f"| {p.displacement_mm:.1f} | {p.motions_per_action:.1f} |"
+        )
+    lines += [
+        "",
+        "| agent | training seed | success | 95 % CI (Wilson) |",
+        "|---|---|---|---|",
+    ]
+    for p in pooled.values():
+        for seed, rate, low, high in p.per_seed:
+            lines.append(
+                f"| {p.agent} | {_seed_text(seed)} | {_percent(rate)} "
+                f"| [{_percent(low)}, {_percent(high)}] |"
+            )
+    lines += [
+        "",
+        f"| {reference} minus | success difference | 95 % CI (bootstrap over layouts and "
+        "training seeds) | above it in every training seed (Wilson intervals apart) |",
+        "|---|---|---|---|",
+    ]
+    for agent, other in results.items():
+        if agent == reference:
+            continue
+        diff, low, high = difference(results[reference], other, samples)
+        every = beats_in_every_seed(pooled[reference], pooled[agent])
+        every_text = "-" if every is None else ("yes" if every else "no")
+        lines.append(
+            f"| {agent} | {100 * diff:+.1f} pts | [{100 * low:+.1f}, {100 * high:+.1f}] "
+            f"| {every_text} |"
+        )
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,58 @@
+"""What produced an evaluation row: a hash of the installed package, the agents' code and a
+learned agent's model and settings. Rows of another fingerprint are not reused."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from collections.abc import Sequence
+from pathlib import Path
+
+import tactile_search  # also registers the environment
+from agents.evaluation.agent_specs import _deterministic
+from agents.run_dir import model_digest, read_run_config
+from agents.sb3.learned import evaluation_env_kwargs
+from agents.scripted import SCRIPTED_AGENTS
+
+
+def _digest(paths: Sequence[Path], root: Path) -> bytes:
+    sha = hashlib.sha256()
+    for path in sorted(paths):
+        sha.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes() + b"\0")
+    return sha.digest()
+
+
+def code_fingerprints(agent_specs: Sequence[str], actions: str = "recipe") -> dict[str, str]:
+    """What produced an agent's rows, per spec: a hash of the installed tactile_search
+    package (its Python files and compiled core), the agents' code (``agents/scripted/``,
+    ``agents/rollout.py`` and ``agents/sb3/learned.py``) and, for a learned agent, its
+    ``model.zip``'s contents (``model_digest``). Rows of another fingerprint are not
+    reused."""
+    package = Path(tactile_search.__file__).parent
+    env_files = [
+        p
+        for p in package.rglob("*")
+        if p.is_file() and p.suffix in (".py", ".so", ".pyd") and "__pycache__" not in p.parts
+    ]
+    agents_dir = Path(__file__).parents[1]
+    agent_files = [
+        *(agents_dir / "scripted").glob("*.py"),
+        agents_dir / "rollout.py",
+        agents_dir / "sb3" / "learned.py",
+    ]
+    base = _digest(env_files, package) + _digest(agent_files, agents_dir)
+    fingerprints = {}
+    for spec in agent_specs:
+        sha = hashlib.sha256(base)
+        if spec not in SCRIPTED_AGENTS:
+            sha.update(model_digest(Path(spec) / "model.zip"))
+            config = read_run_config(Path(spec))
+            env_kwargs = evaluation_env_kwargs(config)
+            sha.update(json.dumps(env_kwargs, sort_keys=True, default=str).encode())
+            # Whether its actions are the policy's mode or samples from it.
+            deterministic = _deterministic(actions)
+            if deterministic is None:
+                deterministic = config["hyperparams"].get("deterministic_evaluation", True)
+            sha.update(b"deterministic" if deterministic else b"sampled")
+        fingerprints[spec] = sha.hexdigest()[:16]
+    return fingerprints

@@ -1,0 +1,84 @@
+"""The statistics of an evaluation: the Wilson interval of a success rate and one agent's
+summary row (success, steps to success, displacement, tips, IoU)."""
+
+from __future__ import annotations
+
+import math
+import statistics
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+# The z of a two-sided 95 % interval.
+Z_95 = 1.959963984540054
+
+
+@dataclass(frozen=True)
+class Summary:
+    """One agent's results over the held-out episodes."""
+
+    agent: str
+    map_mode: str
+    episodes: int
+    successes: int
+    success_low: float
+    success_high: float
+    steps_median: float
+    steps_q1: float
+    steps_q3: float
+    displacement_mm: float
+    # Mean over the successful episodes alone (NaN without one): measured per episode, not
+    # the episode mean divided by the success rate.
+    success_displacement_mm: float
+    max_displacement_mm: float
+    tip_rate: float
+    iou: float
+
+    @property
+    def success_rate(self) -> float:
+        return self.successes / self.episodes
+
+
+def wilson_interval(successes: int, n: int, z: float = Z_95) -> tuple[float, float]:
+    """The Wilson score interval of a binomial proportion (95 % by default)."""
+    if n <= 0:
+        raise ValueError(f"n must be positive, got {n}")
+    if not 0 <= successes <= n:
+        raise ValueError(f"successes must be in [0, {n}], got {successes}")
+    p = successes / n
+    denominator = 1 + z * z / n
+    centre = (p + z * z / (2 * n)) / denominator
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / denominator
+    # The interval always holds p (at p = 0 or 1 rounding could leave it a hair outside).
+    return max(0.0, min(p, centre - half)), min(1.0, max(p, centre + half))
+
+
+def summarize(agent: str, map_mode: str, episodes: Sequence[dict[str, Any]]) -> Summary:
+    """The table row of one agent's per-episode results (``run_episodes`` dicts)."""
+    n = len(episodes)
+    successes = sum(bool(e["success"]) for e in episodes)
+    low, high = wilson_interval(successes, n)
+    steps = sorted(e["steps"] for e in episodes if e["success"])
+    if len(steps) >= 2:
+        q1, median, q3 = statistics.quantiles(steps, n=4, method="inclusive")
+    elif steps:
+        q1 = median = q3 = float(steps[0])
+    else:
+        q1 = median = q3 = math.nan
+    succeeded = [e["jar_displacement"] for e in episodes if e["success"]]
+    return Summary(
+        agent=agent,
+        map_mode=map_mode,
+        episodes=n,
+        successes=successes,
+        success_low=low,
+        success_high=high,
+        steps_median=median,
+        steps_q1=q1,
+        steps_q3=q3,
+        displacement_mm=1000 * statistics.fmean(e["jar_displacement"] for e in episodes),
+        success_displacement_mm=1000 * statistics.fmean(succeeded) if succeeded else math.nan,
+        max_displacement_mm=1000 * statistics.fmean(e["max_jar_displacement"] for e in episodes),
+        tip_rate=statistics.fmean(e["tips"] > 0 for e in episodes),
+        iou=statistics.fmean(e["iou"] for e in episodes),
+    )

@@ -1,0 +1,171 @@
+"""The end-to-end pipeline: train the learned agents, evaluate them with the scripted
+baselines on held-out layouts, write the results.
+
+Two budgets::
+
+    python -m agents.pipeline --budget demo     # make demo: a few minutes, results/
+    python -m agents.pipeline --budget full     # make results: docs/RESULTS.md
+
+``demo`` trains the GPIS-map and the no-map PPO agents briefly, each warm-started from its
+published model (``docs/results/models/``, when there is one), and evaluates them on 50
+validation layouts; ``full`` trains every learned agent (PPO with each map mode and the
+recurrent no-map agent) with training seeds 0, 1 and 2 at its recipe's ``n_timesteps``,
+into ``docs/results/models/`` (the published models), and evaluates on 200 test layouts.
+
+The grid (agents x training seeds, then the evaluation) runs on Ray when it is installed
+(the ``scale`` extra; ``--scheduler ray``): training trials and the evaluation run as Ray
+tasks over slices of the layouts, on this machine's cores, or on the cluster at
+``--address`` / ``RAY_ADDRESS`` (``agents.grid.ray_scheduler``). ``--scheduler local`` runs the same
+trials one after another in this process; both give the same models and episode rows
+(``agents.grid.trials``).
+
+Interrupted at any point (Ctrl-C, a kill), the same command finishes the work without
+redoing what is done: a run whose ``model.zip`` exists is reused (delete the run directory
+to retrain), a partly trained run resumes from its newest checkpoint
+(``agents.sb3.training.train(..., resume=True)``), and the evaluation reuses the per-episode rows
+already in ``episodes.csv`` (``agents.evaluation.evaluation.evaluate``).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import shutil
+import time
+from collections.abc import Sequence
+from pathlib import Path
+
+from agents.evaluation.comparison import comparison_markdown
+from agents.evaluation.episodes_csv import read_episodes_csv
+from agents.evaluation.evaluation import evaluate
+from agents.evaluation.report import markdown_table
+from agents.grid.budgets import BUDGETS, REFERENCE_AGENT, SCRIPTED, Budget
+from agents.grid.results_doc import results_markdown, write_results
+from agents.grid.trials import TrainingTrial, train_trial
+from agents.run_dir import code_version, run_name
+from agents.sb3.recipes import load_hyperparams
+
+SCHEDULERS = ("ray", "local")
+
+
+def default_scheduler() -> str:
+    """``ray`` when Ray is installed (the ``scale`` extra), else ``local``."""
+    return "ray" if importlib.util.find_spec("ray") is not None else "local"
+
+
+def trials(budget: Budget, seeds: list[int]) -> list[TrainingTrial]:
+    """The budget's training trials: every learned agent with every training seed."""
+    code = code_version()
+    return [
+        TrainingTrial(
+            algo=algo,
+            map_mode=map_mode,
+            seed=seed,
+            runs=str(budget.runs.resolve()),
+            timesteps=budget.timesteps,
+            cpus=budget.cpus_per_trial,
+            code=code,
+            init_from=warm_start_source(budget, algo, map_mode, seed),
+        )
+        for algo, map_mode in budget.agents
+        for seed in seeds
+    ]
+
+
+def warm_start_source(budget: Budget, algo: str, map_mode: str, seed: int) -> str | None:
+    """The published run a trial of ``budget`` warm-starts from, if the budget warm-starts and
+    that run is published (else the trial trains from scratch)."""
+    if budget.warm_start_from is None:
+        return None
+    published = budget.warm_start_from / run_name(algo, map_mode, seed) / "model.zip"
+    return str(published.resolve()) if published.is_file() else None
+
+
+def train_all(grid: list[TrainingTrial], progress_bar: bool) -> list[Path]:
+    """Trains (or reuses, or resumes) every trial here, one after another; returns the run
+    directories."""
+    return [train_trial(trial, progress_bar) for trial in grid]
+
+
+def run_budget(
+    budget: Budget,
+    seeds: Sequence[int],
+    scheduler: str,
+    address: str | None = None,
+    progress_bar: bool = True,
+) -> tuple[list[Path], str]:
+    """Trains every agent of ``budget`` with every seed in ``seeds``, evaluates them with the
+    scripted baselines and keeps each run's record beside the results; returns the run
+    directories and the results table. ``scheduler``: ``ray`` (Ray tasks, on
+    the cluster at ``address`` or ``RAY_ADDRESS``, else on this machine) or ``local`` (one
+    after another in this process)."""
+    if scheduler not in SCHEDULERS:
+        raise ValueError(f"scheduler must be one of {SCHEDULERS}, got {scheduler!r}")
+    if address is not None and scheduler != "ray":
+        raise ValueError(f"an address is for the ray scheduler, got scheduler {scheduler!r}")
+    for algo, map_mode in budget.agents:
+        load_hyperparams(algo, map_mode)  # fail before hours of training, not after
+    grid = trials(budget, list(seeds))
+    if scheduler == "ray":
+        import ray
+
+        from agents.grid import ray_scheduler
+        from agents.grid.ray_session import connect
+
+        connect(address)
+        cpus = ray.cluster_resources().get("CPU", 0)
+        print(f"Ray: {cpus:g} CPUs; {len(grid)} training trials", flush=True)
+        run_dirs = ray_scheduler.train_on_ray(grid)
+        summaries = ray_scheduler.evaluate_on_ray(
+            [*map(str, run_dirs), *SCRIPTED],
+            out=budget.results,
+            episodes=budget.episodes,
+            split=budget.split,
+            final=budget.split == "test",
+        )
+    else:
+        run_dirs = train_all(grid, progress_bar)
+        summaries = evaluate(
+            [*map(str, run_dirs), *SCRIPTED],
+            out=budget.results,
+            episodes=budget.episodes,
+            split=budget.split,
+            final=budget.split == "test",
+        )
+    for run_dir in run_dirs:  # the record of each run beside the results (models stay out)
+        record = budget.results / "training" / run_dir.name
+        record.mkdir(parents=True, exist_ok=True)
+        for name in ("config.yml", "progress.csv"):
+            shutil.copyfile(run_dir / name, record / name)
+    return run_dirs, markdown_table(summaries)
+
+
+def run(
+    budget_name: str,
+    seeds: Sequence[int] | None = None,
+    scheduler: str | None = None,
+    address: str | None = None,
+    progress_bar: bool = True,
+) -> Path:
+    """Trains, evaluates and writes the results of ``budget_name``; returns the results dir.
+    ``seeds`` defaults to the budget's; ``scheduler`` to ``default_scheduler()``."""
+    if budget_name not in BUDGETS:
+        raise ValueError(f"budget must be one of {sorted(BUDGETS)}, got {budget_name!r}")
+    budget = BUDGETS[budget_name]
+    started = time.perf_counter()
+    run_dirs, table = run_budget(
+        budget,
+        budget.seeds if seeds is None else seeds,
+        scheduler or default_scheduler(),
+        address,
+        progress_bar,
+    )
+    rows, _ = read_episodes_csv(budget.results / "episodes.csv")
+    comparison = comparison_markdown(rows, reference=REFERENCE_AGENT)
+    if budget_name == "full":
+        path = budget.results.parent / "RESULTS.md"
+        write_results(path, results_markdown(budget_name, budget, run_dirs, table, comparison))
+        print(f"wrote {path}")
+    print(table)
+    print(comparison)
+    print(f"pipeline took {(time.perf_counter() - started) / 60:.1f} min; see {budget.results}/")
+    return budget.results

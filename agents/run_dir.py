@@ -1,0 +1,261 @@
+"""The run-folder contract: what a training run's directory holds, read and written here only.
+
+A run directory ``<out>/<algo>_<map>_seed<seed>/`` holds ``config.yml`` (the resolved recipe,
+seed, versions, the code's git commit, the machine, checkpoints and resumes), ``model.zip``
+(written last: a run is finished when both exist and the config records ``timesteps_done``),
+``progress.csv`` and TensorBoard events, and ``checkpoints/rl_model_<timesteps>_steps.zip``.
+Every file is replaced atomically (a temporary file renamed over it), so a kill leaves the old
+file or the new one. ``model_digest`` hashes what a ``model.zip`` holds, not its bytes.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import hashlib
+import json
+import os
+import platform
+import re
+import subprocess
+import zipfile
+from collections.abc import Iterator
+from pathlib import Path
+from typing import IO, Any
+
+import gymnasium as gym
+import yaml
+
+import tactile_search
+from agents.sb3.recipes import ALGORITHMS
+from tactile_search.envs.config import MAP_MODES
+
+# Where the published models are trained (agents.pipeline's full budget), from the repo root.
+PUBLISHED_RUNS = "docs/results/models"
+#: The files of a run directory.
+CONFIG_FILE = "config.yml"
+MODEL_FILE = "model.zip"
+PROGRESS_FILE = "progress.csv"
+
+
+CHECKPOINT_DIR = "checkpoints"
+
+
+CHECKPOINT_PREFIX = "rl_model"
+
+
+CHECKPOINT_NAME = re.compile(rf"{CHECKPOINT_PREFIX}_(\d+)_steps\.zip")
+
+
+def run_name(algo: str, map_mode: str, seed: int) -> str:
+    """The run directory's name."""
+    return f"{algo}_{map_mode}_seed{seed}"
+
+
+def versions() -> dict[str, str]:
+    """Versions of what produced a run."""
+    import stable_baselines3
+    import torch
+
+    return {
+        "tactile_search": tactile_search.__version__,
+        "stable_baselines3": stable_baselines3.__version__,
+        "torch": str(torch.__version__),
+        "gymnasium": gym.__version__,
+        "python": platform.python_version(),
+    }
+
+
+def machine() -> dict[str, Any]:
+    """The machine a run trained on, as ``config.yml`` records it."""
+    import torch
+
+    return {
+        "cpus": os.cpu_count(),
+        "processor": platform.processor() or platform.machine(),
+        "system": platform.platform(),
+        "gpu": torch.cuda.get_device_name(0) if torch.cuda.is_available() else None,
+    }
+
+
+def code_version(repo: Path | None = None) -> dict[str, Any]:
+    """The code that produced a run: the git commit of ``repo`` (default: the checkout this
+    ``agents`` package sits in) and whether its tree differed from the commit (``dirty``:
+    changed or new files that git does not ignore). Both ``None`` outside a git checkout,
+    e.g. in a Ray worker's copy of ``agents``: there the driver's version is passed in."""
+    repo = Path(__file__).resolve().parents[1] if repo is None else Path(repo)
+
+    def git(*args: str) -> str:
+        done = subprocess.run(
+            ["git", "-C", str(repo), *args], capture_output=True, text=True, timeout=30
+        )
+        if done.returncode != 0:
+            raise subprocess.SubprocessError(done.stderr.strip())
+        return done.stdout.strip()
+
+    try:
+        commit = git("rev-parse", "HEAD")
+        dirty = bool(git("status", "--porcelain", "--", ".", f":(exclude){PUBLISHED_RUNS}"))
+    except (OSError, subprocess.SubprocessError):
+        return {"commit": None, "dirty": None}
+    return {"commit": commit, "dirty": dirty}
+
+
+@contextlib.contextmanager
+def replaced_atomically(path: Path, mode: str) -> Iterator[IO[Any]]:
+    """A file to write ``path``'s new content into: a temporary file renamed over ``path``
+    once written and synced, so a kill leaves either the old file or the new one, never
+    half of one."""
+    tmp = path.with_name(path.name + ".tmp")
+    with tmp.open(mode) as f:
+        yield f
+        f.flush()
+        os.fsync(f.fileno())
+    os.replace(tmp, path)
+
+
+def write_atomically(path: Path, text: str) -> None:
+    """Writes ``text`` to ``path`` atomically (see ``replaced_atomically``)."""
+    with replaced_atomically(path, "w") as f:
+        f.write(text)
+
+
+def write_run_config(run_dir: Path, config: dict[str, Any]) -> None:
+    """Writes a run's ``config.yml`` atomically, keys in the order given."""
+    write_atomically(Path(run_dir) / CONFIG_FILE, yaml.safe_dump(config, sort_keys=False))
+
+
+def save_model_atomically(model: Any, path: Path) -> None:
+    """``model.save(path)`` atomically (see ``replaced_atomically``)."""
+    with replaced_atomically(path, "wb") as f:
+        model.save(f)
+
+
+def checkpoints(run_dir: Path) -> list[tuple[int, Path]]:
+    """The checkpoints of a run as ``(timesteps, path)``, oldest first."""
+    found = []
+    for path in (Path(run_dir) / CHECKPOINT_DIR).glob(f"{CHECKPOINT_PREFIX}_*_steps.zip"):
+        match = CHECKPOINT_NAME.fullmatch(path.name)
+        if match:
+            found.append((int(match.group(1)), path))
+    return sorted(found)
+
+
+def read_run_config(run_dir: Path, required: tuple[str, ...] = ("algo", "map", "versions")) -> dict:
+    """A run's ``config.yml``, checked: a mapping with the ``required`` keys, a known algo and
+    map mode, written by this version of tactile_search. Raises ``ValueError`` naming the
+    file and what is wrong."""
+    run_dir = Path(run_dir)
+    if not run_dir.is_dir():
+        raise ValueError(f"{run_dir} is not a training run: no such directory")
+    path = run_dir / CONFIG_FILE
+    if not path.is_file():
+        raise ValueError(f"{run_dir} is not a training run: {path.name} is missing ({path})")
+    try:
+        config = yaml.safe_load(path.read_text())
+    except (yaml.YAMLError, UnicodeDecodeError) as err:
+        raise ValueError(f"{path} is not a readable YAML file: {err}") from err
+    if not isinstance(config, dict):
+        raise ValueError(
+            f"{path} must hold a mapping of the run's settings, got {type(config).__name__}"
+        )
+    missing = [key for key in required if key not in config]
+    if missing:
+        raise ValueError(f"{path} lacks the keys {missing} (it has {sorted(config)})")
+    if "algo" in required and config["algo"] not in ALGORITHMS:
+        raise ValueError(f"{path}: algo must be one of {ALGORITHMS}, got {config['algo']!r}")
+    if "map" in required and config["map"] not in MAP_MODES:
+        raise ValueError(f"{path}: map must be one of {MAP_MODES}, got {config['map']!r}")
+    if "versions" in required:
+        versions_ = config["versions"]
+        if not isinstance(versions_, dict) or "tactile_search" not in versions_:
+            raise ValueError(
+                f"{path}: versions must be a mapping with a tactile_search entry, got {versions_!r}"
+            )
+        if str(versions_["tactile_search"]) != tactile_search.__version__:
+            raise ValueError(
+                f"{path} was written by tactile_search {versions_['tactile_search']}, this is "
+                f"tactile_search {tactile_search.__version__}: the environment may differ from "
+                "the one the run trained in; retrain it, or install that version"
+            )
+    if "hyperparams" in required:
+        recipe = config["hyperparams"]
+        needed = ("n_timesteps", "n_envs", "policy", "env_kwargs")
+        if not isinstance(recipe, dict) or any(key not in recipe for key in needed):
+            raise ValueError(f"{path}: hyperparams must be a mapping with the keys {needed}")
+    return config
+
+
+def is_finished(run_dir: Path, config: dict) -> bool:
+    """Whether a run finished: its ``model.zip`` exists and its config records the timesteps
+    done (the config is written first, then the model, each atomically)."""
+    return (Path(run_dir) / MODEL_FILE).is_file() and "timesteps_done" in config
+
+
+def kept_progress(path: Path, timesteps: int) -> tuple[list[str], list[str]] | None:
+    """The header and the complete rows of a ``progress.csv`` logged at or before
+    ``timesteps`` (the later rows belong to work a resumed run redoes; a row cut short by a
+    kill is dropped). None if there is no usable file."""
+    if not path.is_file():
+        return None
+    lines = path.read_text().splitlines(keepends=True)
+    if not lines or not lines[0].endswith("\n"):
+        return None
+    header = next(csv.reader([lines[0]]))
+    if "time/total_timesteps" not in header:
+        return header, []
+    column = header.index("time/total_timesteps")
+    kept = []
+    for line in lines[1:]:
+        if not line.endswith("\n"):
+            break
+        row = next(csv.reader([line]), [])
+        if len(row) != len(header):
+            continue
+        try:
+            done = float(row[column])
+        except ValueError:
+            continue
+        if done <= timesteps:
+            kept.append(line)
+    return header, kept
+
+
+def model_file(path: Path) -> Path:
+    """``path`` if it is a model file, else ``path/model.zip``; ``ValueError`` if neither is."""
+    candidate = path / MODEL_FILE if path.is_dir() else path
+    if not candidate.is_file():
+        raise ValueError(
+            f"init_from must be a run directory with model.zip or a model file, got {path}"
+        )
+    return candidate
+
+
+def model_digest(path: Path) -> bytes:
+    """A hash of what a ``model.zip`` holds, not of the archive's bytes, so that the same
+    model trained twice (one run after another, or as a Ray trial) gets the same digest.
+
+    It covers every member (the weights, optimizer state, versions) and the ``data`` member's
+    plain settings; not what differs between identical trainings: the archive's write times,
+    ``data``'s ``start_time`` and its pickled objects (classes and spaces, whose pickles are
+    not byte-stable; the spaces are checked on load, the classes follow from the algorithm)."""
+    sha = hashlib.sha256()
+    try:
+        with zipfile.ZipFile(path) as archive:
+            for name in sorted(archive.namelist()):
+                content = archive.read(name)
+                if name == "data":
+                    data = json.loads(content)
+                    plain = {
+                        key: value
+                        for key, value in data.items()
+                        if key != "start_time"
+                        and not (isinstance(value, dict) and ":serialized:" in value)
+                    }
+                    content = json.dumps(plain, sort_keys=True).encode()
+                sha.update(name.encode() + b"\0" + content + b"\0")
+    except (zipfile.BadZipFile, OSError, EOFError, ValueError) as err:
+        raise ValueError(
+            f"{path} is not a readable model archive (truncated or corrupt?): {err}"
+        ) from err
+    return sha.digest()
