@@ -36,7 +36,8 @@ class CupboardSearchSb3VecEnv(VecEnv):
         num_envs: number of episodes.
         seed: seed of the generator that draws each new episode's layout seed.
         layout_seeds: ``[low, high)``, the range layout seeds are drawn from (keep training
-            out of the range evaluation holds out; ``agents/train.py`` uses ``[2**32, 2**63)``).
+            out of the ranges evaluation holds out: ``tactile_search.seed_ranges.TRAINING``,
+            as ``agents.train`` does).
         threads: worker threads (default: every core).
         **kwargs: the fields of ``CupboardSearchConfig`` (``max_steps`` is the time limit).
     """

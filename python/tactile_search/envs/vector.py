@@ -42,7 +42,8 @@ class CupboardSearchVectorEnv(VectorEnv):
         threads: worker threads (default: every core).
         layout_seeds: ``[low, high)``, the range the episodes' layout seeds are drawn from
             by the env's generator (``np_random``, seeded by ``reset(seed=...)``); keep
-            training out of the validation and test ranges with ``(2**32, 2**63)``.
+            training out of the validation and test ranges with
+            ``tactile_search.seed_ranges.TRAINING``.
         copy: return fresh arrays each step (True) or the batch's own arrays, overwritten
             by the next step (False; saves a copy of every output per step).
         **kwargs: the fields of ``CupboardSearchConfig`` (``max_steps`` is the time limit).
