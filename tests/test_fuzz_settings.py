@@ -502,7 +502,7 @@ def test_a_scene_length_beyond_f32_is_refused(key: str, value: float) -> None:
 
 
 def test_occupancy_map_under_the_largest_depth_noise_steps() -> None:
-    """Found by this fuzzer, fixed in env_core/src/episode/occupancy.rs: under huge depth
+    """Found by this fuzzer, fixed in env_core/src/episode/maps/occupancy.rs: under huge depth
     noise the occupancy map sampled each reading's whole ray, every half cell, so a reading
     far outside the grid took practically forever. The largest depth noise the table
     allows, and the longest camera range, now step like any other."""

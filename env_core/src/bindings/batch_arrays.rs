@@ -18,7 +18,8 @@ use crate::episode::{Command, EpisodeBatch, PROPRIO_LEN};
 
 /// The batch's output arrays.
 pub(crate) struct BatchArrays {
-    /// (N, 2, H, W) uint8; none in the `none` map mode.
+    /// (N, C, H, W) uint8 (C = 2 for the `gpis` and `occupancy` modes); none for a map mode
+    /// without an image.
     maps: Option<Py<PyArray4<u8>>>,
     /// (N, PROPRIO_LEN) float32.
     proprio: Py<PyArray2<f32>>,
@@ -45,8 +46,9 @@ fn not_writeable(what: &str, error: impl std::fmt::Display) -> PyErr {
 }
 
 impl BatchArrays {
-    /// Zeroed arrays for `n` episodes with an `(h, w)` map (`None`: no map).
-    pub(crate) fn new(py: Python<'_>, n: usize, map: Option<(usize, usize)>) -> PyResult<Self> {
+    /// Zeroed arrays for `n` episodes with a `[channels, h, w]` map image (`None`: no
+    /// image).
+    pub(crate) fn new(py: Python<'_>, n: usize, map: Option<[usize; 3]>) -> PyResult<Self> {
         let (nf, nb, nc) = info_counts();
         let floats = PyArray2::<f64>::zeros(py, [nf, n], false);
         let flags = PyArray2::<bool>::zeros(py, [nb, n], false);
@@ -64,7 +66,7 @@ impl BatchArrays {
             next[kind] += 1;
         }
         Ok(Self {
-            maps: map.map(|(h, w)| PyArray4::<u8>::zeros(py, [n, 2, h, w], false).unbind()),
+            maps: map.map(|[c, h, w]| PyArray4::<u8>::zeros(py, [n, c, h, w], false).unbind()),
             proprio: PyArray2::<f32>::zeros(py, [n, PROPRIO_LEN], false).unbind(),
             rewards: PyArray1::<f64>::zeros(py, n, false).unbind(),
             terminated: PyArray1::<bool>::zeros(py, n, false).unbind(),

@@ -19,9 +19,9 @@ use super::errors::{episode_error, episode_index_error, wrong_type, wrong_value}
 use super::exclusive::Exclusive;
 use super::settings::{config_dict, config_from, describe};
 use super::step_info::info_dict;
+use crate::episode::maps::GridValues;
 use crate::episode::{
-    oracle_action, ActionMode, Command, EpisodeBatch, EpisodeConfig, EpisodeError, MapMode,
-    PROPRIO_LEN,
+    oracle_action, ActionMode, Command, EpisodeBatch, EpisodeConfig, EpisodeError, PROPRIO_LEN,
 };
 use crate::scene::JarShape;
 use crate::settings::Choice;
@@ -130,7 +130,9 @@ impl PyEpisodeBatch {
             .detach(|| EpisodeBatch::new(built, &seeds, threads))
             .map_err(|e| episode_error(0, e))?;
         let n = inner.len();
-        let map = (config.map.mode != MapMode::None).then_some(config.map.grid_shape);
+        let channels = config.map.mode.kind().channels.len();
+        let (h, w) = config.map.grid_shape;
+        let map = (channels > 0).then_some([channels, h, w]);
         let state = BatchState {
             inner,
             arrays: BatchArrays::new(py, n, map)?,
@@ -394,17 +396,12 @@ impl PyEpisodeBatch {
         d.set_item("contacts", contacts)?;
         d.set_item("bounds", episode.grid().bounds())?;
         let (h, w) = episode.grid().shape();
-        if let Some(gpis) = episode.gpis() {
-            let std: Vec<f64> = gpis.variance_grid().iter().map(|v| v.sqrt()).collect();
-            d.set_item(
-                "mean",
-                PyArray1::from_slice(py, gpis.mean_grid()).reshape([h, w])?,
-            )?;
-            d.set_item("std", PyArray1::from_vec(py, std).reshape([h, w])?)?;
-        }
-        if let Some(occupancy) = episode.occupancy() {
-            let p: Vec<f32> = (0..h * w).map(|i| occupancy.probability(i)).collect();
-            d.set_item("occupancy", PyArray1::from_vec(py, p).reshape([h, w])?)?;
+        for (name, values) in episode.map().render_grids() {
+            let grid = match values {
+                GridValues::F64(v) => PyArray1::from_vec(py, v).reshape([h, w])?.into_any(),
+                GridValues::F32(v) => PyArray1::from_vec(py, v).reshape([h, w])?.into_any(),
+            };
+            d.set_item(name, grid)?;
         }
         Ok(d)
     }

@@ -8,7 +8,7 @@ use pyo3::types::PyDict;
 
 use super::arrays::{grid, points, vector};
 use super::settings::config_from;
-use crate::episode::prior;
+use crate::episode::maps::gpis::prior;
 use crate::episode::EpisodeConfig;
 use crate::gpis::Observation;
 
@@ -116,7 +116,7 @@ impl PyObservations {
 
 /// The depth prior's observations for the slice `slice_points` (N, 2) seen from `camera`
 /// (x, y), on the map grid `(bounds, shape)`, exactly as the environment starts its map
-/// (`env_core/src/episode/prior.rs`). `settings` are episode settings as the environment
+/// (`env_core/src/episode/maps/gpis/prior.rs`). `settings` are episode settings as the environment
 /// takes them (the prior reads `circle_prior_diameter`, `map_depth_noise_std`,
 /// `max_prior_depth_points`, `free_space_offset`, `prior_wall_clearance`,
 /// `contact_noise_std`, `normal_noise_std` and `max_rows`); each defaults to the

@@ -1,84 +1,14 @@
-//! Every setting of an episode, declared once (design notes §4 and §8): the map, the reward
-//! and the episode end, with the scene's settings as a section. The settings table is what
-//! the environment's keyword arguments, its docs and the stub are made from.
+//! Every setting of an episode, declared once (design notes §4 and §8): the reward and the
+//! episode end, with the probes', the map's ([`super::maps::MapConfig`], beside the map
+//! modes) and the scene's settings as sections. The settings table is what the
+//! environment's keyword arguments, its docs and the stub are made from.
 
 use super::error::EpisodeError;
+use super::maps::MapConfig;
 use super::probe::{check_sweep_rate, ActionMode, ProbeConfig};
 use crate::scene::SceneConfig;
 use crate::settings;
-use crate::settings::{Choice, Range, SettingError, Settings};
-
-/// Which map the agent sees.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MapMode {
-    /// GPIS posterior mean and standard deviation.
-    Gpis,
-    /// A plain log-odds evidence grid from the same depth and touch points.
-    Occupancy,
-    /// No map: the agent sees only proprioception and touch.
-    None,
-}
-
-impl Choice for MapMode {
-    const NAMES: &'static [&'static str] = &["gpis", "occupancy", "none"];
-    const ANNOTATION: &'static str = "Literal['gpis', 'occupancy', 'none']";
-    const EXPECTED: &'static str = "'gpis', 'occupancy' or 'none'";
-
-    fn from_index(index: usize) -> Self {
-        [Self::Gpis, Self::Occupancy, Self::None][index]
-    }
-
-    fn index(self) -> usize {
-        self as usize
-    }
-}
-
-settings! {
-    /// How the map is built from depth and touch, and how it is rendered as an image.
-    pub struct MapConfig {
-        /// Which map the agent sees: the GPIS mean and std, a plain occupancy grid, or none.
-        mode: MapMode = MapMode::Gpis => "map" in Range::FINITE,
-        /// (H, W) of the map grid over the cupboard's interior; square cells, H >= 36.
-        grid_shape: (usize, usize) = (40, 80) => "grid_shape" in Range::closed(36.0, 4096.0),
-        /// Constant prior mean of the GPIS, m (positive: unobserved space reads as free).
-        prior_mean: f64 = 0.01 => "prior_mean" in Range::FINITE,
-        /// Diameter of the paper's circle prior placed behind each depth cluster, m; None
-        /// for no circle prior.
-        circle_prior_diameter: Option<f64> = None => "circle_prior_diameter" in Range::POSITIVE,
-        /// GPIS noise standard deviation of a depth point, m.
-        depth_noise_std: f64 = 0.003 => "map_depth_noise_std" in Range::NON_NEGATIVE,
-        /// The depth slice is thinned (evenly) to at most this many points before it enters
-        /// the GPIS (the prior's cost grows as rows squared times cells).
-        max_prior_depth_points: usize = 96 => "max_prior_depth_points" in Range::AT_LEAST_ONE,
-        /// Free-space evidence: a value observation f = +offset this far in front of each
-        /// depth point along its camera ray, m; None for surface points only.
-        free_space_offset: Option<f64> = Some(0.01) => "free_space_offset" in Range::POSITIVE,
-        /// Depth points closer than this to the side or back walls are left out of the prior
-        /// before thinning, m (they are the cupboard, not a jar); 0 keeps every point.
-        wall_clearance: f64 = 0.0 => "prior_wall_clearance" in Range::NON_NEGATIVE,
-        /// The finger's swept free space as map evidence (not in the paper): after every
-        /// wrist motion without a tactile reading, the fingertip's point becomes a value
-        /// observation f = +this (m) in the GPIS map (skipped, as contacts are, where the
-        /// map is already certain: skip_below_variance) and free evidence in the occupancy
-        /// map, so the map keeps where the finger has been. None adds nothing (v0).
-        swept_free_space: Option<f64> = None => "swept_free_space" in Range::POSITIVE,
-        /// GPIS noise standard deviation of a contact's position, m.
-        contact_noise_std: f64 = 0.001 => "contact_noise_std" in Range::NON_NEGATIVE,
-        /// GPIS noise standard deviation of each contact-normal component.
-        normal_noise_std: f64 = 0.1 => "normal_noise_std" in Range::NON_NEGATIVE,
-        /// A contact is skipped when the map's variance at its point is already below
-        /// this, m^2.
-        skip_below_variance: f64 = 1e-5 => "skip_below_variance" in Range::NON_NEGATIVE,
-        /// Most GPIS rows per episode; contacts beyond it are dropped and counted.
-        max_rows: usize = 1500 => "max_rows" in Range::AT_LEAST_ONE,
-        /// |mean| that saturates the map's mean channel, m.
-        mean_scale: f64 = 0.05 => "mean_scale" in Range::POSITIVE,
-        /// Standard deviation that saturates the map's std channel, m.
-        std_scale: f64 = 0.1 => "std_scale" in Range::POSITIVE,
-    }
-    sections {}
-    check_across = |_| Ok(());
-}
+use crate::settings::{Range, SettingError, Settings};
 
 settings! {
     /// Reward weights. Each term is reported on its own in the step info.

@@ -1,24 +1,25 @@
 //! One mechanical-search episode: the scene, the map built from its depth and touch, the
 //! reward and the episode end (design notes §4).
 //!
-//! reset(seed): new layout, first depth look, GPIS prior from the depth slice, hand at the
-//! opening. step(action): scale and clip the wrist motion, step the scene (several physics
-//! substeps), add the new contacts to the map (skipping uninformative ones), then reward,
-//! termination, truncation (the time limit `max_steps` is the episode's own) and metrics.
+//! reset(seed): new layout, first depth look, the map started from the depth slice, hand at
+//! the opening. step(action): scale and clip the wrist motion, step the scene (several
+//! physics substeps), add the new contacts to the map, then reward, termination, truncation
+//! (the time limit `max_steps` is the episode's own) and metrics. Everything map-specific
+//! is the map mode's ([`super::maps::AgentMap`]): the episode never asks which mode it is.
 //! In the `probe` action mode a step is a whole probe: the controller's wrist motions, each
 //! such a step, with their rewards summed ([`super::probe`]).
 
 use super::approach::{fingertip, ApproachField};
-use super::config::{EpisodeConfig, MapMode};
+use super::config::EpisodeConfig;
 use super::error::EpisodeError;
-use super::metrics::{footprint_mask, iou};
-use super::observation::{encode_gpis, encode_occupancy, proprio, PROPRIO_LEN};
-use super::occupancy::OccupancyGrid;
-use super::prior::depth_prior;
+use super::maps::gpis::GpisMap;
+use super::maps::occupancy::OccupancyGrid;
+use super::maps::{AgentMap, MapKind};
+use super::metrics::footprint_mask;
+use super::observation::{proprio, PROPRIO_LEN};
 use super::probe::{ActionMode, Phase, ProbeController};
 use super::step_info::StepInfo;
-use crate::gpis::observation::noise_variance;
-use crate::gpis::{Gpis, GpisConfig, GridSpec, Observation};
+use crate::gpis::{Gpis, GridSpec};
 use crate::scene::{Contact, HandCommand, Scene};
 
 /// The target's footprint widened by this much counts as reached by the approach field, m.
@@ -29,8 +30,10 @@ pub struct Episode {
     config: EpisodeConfig,
     grid: GridSpec,
     scene: Scene,
-    gpis: Option<Gpis>,
-    occupancy: Option<OccupancyGrid>,
+    /// The map mode's row of the table (its image channels).
+    kind: &'static MapKind,
+    /// The agent's map, of the configured mode.
+    map: Box<dyn AgentMap>,
     steps: usize,
     displacement_sum: f64,
     ended: bool,
@@ -51,18 +54,8 @@ impl Episode {
     pub fn new(config: EpisodeConfig, seed: u64) -> Result<Self, EpisodeError> {
         config.validate()?;
         let grid = GridSpec::new(config.map_bounds(), config.map.grid_shape)?;
-        let gpis = match config.map.mode {
-            MapMode::Gpis => Some(Gpis::new(GpisConfig {
-                bounds: grid.bounds(),
-                shape: grid.shape(),
-                psi: None,
-                prior_mean: config.map.prior_mean,
-                max_rows: config.map.max_rows,
-            })?),
-            MapMode::Occupancy | MapMode::None => None,
-        };
-        let occupancy =
-            (config.map.mode == MapMode::Occupancy).then(|| OccupancyGrid::new(grid.clone()));
+        let kind = config.map.mode.kind();
+        let map = (kind.build)(&config.map, &grid)?;
         let scene = Scene::new(config.scene.clone(), seed)?;
         let cupboard = &config.scene.cupboard;
         let probes = ProbeController::new(
@@ -75,8 +68,8 @@ impl Episode {
             config,
             grid,
             scene,
-            gpis,
-            occupancy,
+            kind,
+            map,
             steps: 0,
             displacement_sum: 0.0,
             ended: false,
@@ -117,18 +110,7 @@ impl Episode {
             APPROACH_CLEARANCE,
         );
         let camera = self.camera_xy();
-        let slice = self.scene.first_slice();
-        if let Some(gpis) = &mut self.gpis {
-            gpis.clear();
-            let prior = depth_prior(slice, camera, &self.grid, &self.config.map)?;
-            gpis.add(&prior, None)?;
-        }
-        if let Some(occupancy) = &mut self.occupancy {
-            occupancy.clear();
-            for &hit in slice {
-                occupancy.add_ray(camera, hit);
-            }
-        }
+        self.map.reset(self.scene.first_slice(), camera)?;
         self.add_touch();
         let (info, _) = self.measure();
         self.last_info = info;
@@ -147,62 +129,12 @@ impl Episode {
             .filter(|c| bounds.contains(c.point))
             .collect();
         let count = self.scene.contacts().len();
-        if let Some(occupancy) = &mut self.occupancy {
-            for c in &readings {
-                occupancy.add_contact(c.point, c.normal);
-            }
-            if !readings.is_empty() {
-                self.iou = None;
-            }
-        }
         let swept = self.swept_point(count);
-        if let (Some(occupancy), Some(point)) = (&mut self.occupancy, swept) {
-            occupancy.add_free(point);
+        let report = self.map.add_touch(&readings, swept);
+        if report.changed {
             self.iou = None;
         }
-        let Some(gpis) = &mut self.gpis else {
-            return (count, 0, 0, 0);
-        };
-        let map = &self.config.map;
-        let mut swept_rows = 0;
-        let mut swept_skipped = 0;
-        if let (Some(point), Some(value)) = (swept, map.swept_free_space) {
-            if gpis.free_rows() >= 1 {
-                let free = noise_variance("depth_noise_std", map.depth_noise_std)
-                    .and_then(|noise| Observation::value(0, point, value, noise))
-                    .expect("the fingertip is finite and the noise non-negative");
-                let report = gpis
-                    .add(&[free], Some(map.skip_below_variance))
-                    .expect("a finite point inside the bounds that fits the capacity");
-                swept_rows = report.added_rows;
-                swept_skipped = report.skipped_uninformative + report.rejected_degenerate;
-                if swept_rows > 0 {
-                    self.iou = None;
-                }
-            }
-        }
-        let fit = readings.len().min(gpis.free_rows() / 3);
-        let points: Vec<[f64; 2]> = readings[..fit].iter().map(|c| c.point).collect();
-        let normals: Vec<[f64; 2]> = readings[..fit].iter().map(|c| c.normal).collect();
-        let report = gpis
-            .add_contacts(
-                &points,
-                &normals,
-                map.contact_noise_std,
-                map.normal_noise_std,
-                Some(map.skip_below_variance),
-            )
-            .expect("contacts are finite, inside the bounds and fit the capacity");
-        if report.added_rows > 0 {
-            self.iou = None;
-        }
-        let skipped = report.skipped_uninformative + report.rejected_degenerate + swept_skipped;
-        (
-            count,
-            report.added_rows + swept_rows,
-            skipped,
-            readings.len() - fit,
-        )
+        (count, report.rows_added, report.skipped, report.dropped)
     }
 
     /// The fingertip, when `swept_free_space` is set (for the GPIS and the occupancy map
@@ -260,28 +192,12 @@ impl Episode {
             self.truth_poses.extend(poses);
             self.iou = None;
         }
-        if let Some(gpis) = &self.gpis {
-            info.gpis_rows = gpis.n_rows();
-        }
+        info.gpis_rows = self.map.rows();
         info.iou = match self.iou {
             Some(iou) => iou,
-            None => *self.iou.insert(self.map_iou()),
+            None => *self.iou.insert(self.map.iou(&self.truth)),
         };
         (info, added)
-    }
-
-    /// IoU of the map's interior against the truth mask (0 without a map).
-    fn map_iou(&self) -> f64 {
-        if let Some(gpis) = &self.gpis {
-            iou(gpis.mean_grid().iter().map(|&m| m < 0.0), &self.truth)
-        } else if let Some(occupancy) = &self.occupancy {
-            iou(
-                (0..self.truth.len()).map(|i| occupancy.probability(i) > 0.5),
-                &self.truth,
-            )
-        } else {
-            0.0
-        }
     }
 
     /// Takes one step. In the `wrist` action mode `action` is in [−1, 1]³ (dx, dy, dyaw),
@@ -391,24 +307,17 @@ impl Episode {
         Ok(info)
     }
 
-    /// Values in the map image: 2·H·W (0 in the `none` mode).
+    /// Values in the map image: channels · H · W (2 · H · W for the `gpis` and `occupancy`
+    /// modes, 0 in the `none` mode).
     pub fn map_len(&self) -> usize {
-        match self.config.map.mode {
-            MapMode::None => 0,
-            MapMode::Gpis | MapMode::Occupancy => 2 * self.grid.n_cells(),
-        }
+        self.kind.channels.len() * self.grid.n_cells()
     }
 
-    /// Writes the map image (2 × H × W, channel first; see
-    /// [`super::observation::MAP_CHANNELS`]).
+    /// Writes the map image (channels × H × W, channel first; see the mode's
+    /// [`super::maps::MapKind::channels`]).
     pub fn write_map(&self, out: &mut [u8]) -> Result<(), EpisodeError> {
         check_length("map", self.map_len(), out.len())?;
-        let map = &self.config.map;
-        if let Some(gpis) = &self.gpis {
-            encode_gpis(gpis, map.mean_scale, map.std_scale, out);
-        } else if let Some(occupancy) = &self.occupancy {
-            encode_occupancy(occupancy, out);
-        }
+        self.map.encode(out);
         Ok(())
     }
 
@@ -438,14 +347,22 @@ impl Episode {
         &self.scene
     }
 
+    /// The agent's map.
+    pub fn map(&self) -> &dyn AgentMap {
+        self.map.as_ref()
+    }
+
     /// The GPIS map, in the `gpis` mode.
     pub fn gpis(&self) -> Option<&Gpis> {
-        self.gpis.as_ref()
+        self.map
+            .as_any()
+            .downcast_ref::<GpisMap>()
+            .map(GpisMap::gpis)
     }
 
     /// The occupancy grid, in the `occupancy` mode.
     pub fn occupancy(&self) -> Option<&OccupancyGrid> {
-        self.occupancy.as_ref()
+        self.map.as_any().downcast_ref::<OccupancyGrid>()
     }
 
     /// The configuration.

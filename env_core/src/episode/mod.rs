@@ -2,10 +2,11 @@
 //! episode end, and a batch of episodes stepped in parallel.
 //!
 //! - [`approach`]: the fingertip's path distance to the target (reward shaping).
-//! - [`config`]: the map mode, grid, prior, noise and reward weights.
-//! - [`prior`]: the GPIS prior from the depth camera's first look.
-//! - [`occupancy`]: the plain evidence grid of the `occupancy` mode.
-//! - [`observation`]: the observation layout (map image channels, proprio field table).
+//! - [`config`]: the episode's settings (reward weights, episode end; sections for the
+//!   probes, the map and the scene).
+//! - [`maps`]: the agent's map, one file per map mode behind one trait (the GPIS, the
+//!   occupancy grid, none), with the map's settings, image channels and decoders.
+//! - [`observation`]: the proprio field table.
 //! - [`step_info`]: what a step did, and the field table of `info`.
 //! - [`metrics`]: true footprints and the IoU of a map against them.
 //! - [`level_set`], [`outline`]: the map's zero level set and its distance to the true
@@ -23,19 +24,19 @@ pub mod config;
 mod episode;
 pub mod error;
 pub mod level_set;
+pub mod maps;
 pub mod metrics;
 pub mod observation;
-pub mod occupancy;
 pub mod oracle;
 pub mod outline;
-pub mod prior;
 pub mod probe;
 pub mod step_info;
 
 pub use batch::{Command, EpisodeBatch};
-pub use config::{EpisodeConfig, MapConfig, MapMode, RewardConfig};
+pub use config::{EpisodeConfig, RewardConfig};
 pub use episode::Episode;
 pub use error::EpisodeError;
+pub use maps::{MapConfig, MapMode};
 pub use observation::{PROPRIO_FIELDS, PROPRIO_LEN};
 pub use oracle::oracle_action;
 pub use probe::{ActionMode, ProbeConfig};

@@ -3,13 +3,12 @@
 //! Each proprio entry is one row of [`PROPRIO_FIELDS`] (name, scale, meaning, and the
 //! function that computes it), so the vector, its length, the Python docstring's table and
 //! the planner's decoder all follow from this table; adding an entry is one edit here.
-//! The map channels are described by [`MAP_CHANNELS`] beside the encoders that produce them.
+//! The map image's channels are described by each map mode, beside the encoder and the
+//! decoder (`super::maps`).
 //!
-//! Cost: the proprio vector is O(1) per step; a map image is O(G) for G grid cells.
+//! Cost: the proprio vector is O(1) per step.
 
 use super::config::EpisodeConfig;
-use super::occupancy::OccupancyGrid;
-use crate::gpis::Gpis;
 use crate::scene::{Contact, HandPose, Scene};
 
 /// What the proprio entries are computed from: the hand's state after a step.
@@ -145,80 +144,6 @@ pub fn proprio(config: &EpisodeConfig, scene: &Scene, steps: usize) -> [f32; PRO
         config,
     };
     PROPRIO_FIELDS.map(|field| (field.value)(&inputs) as f32)
-}
-
-/// One channel of the map image in one map mode.
-pub struct MapChannel {
-    /// The map mode (`"gpis"` or `"occupancy"`; `"none"` has no image).
-    pub mode: &'static str,
-    /// Channel index (the image is 2 × H × W, channel first).
-    pub channel: usize,
-    /// The channel's name.
-    pub name: &'static str,
-    /// How the pixel value is computed from the map.
-    pub encoding: &'static str,
-}
-
-/// Every channel of the map image. Row `i` of the image runs along y (into the cupboard),
-/// column `j` along x; the grid covers the cupboard's interior with square cells.
-pub const MAP_CHANNELS: [MapChannel; 4] = [
-    MapChannel {
-        mode: "gpis",
-        channel: 0,
-        name: "mean",
-        encoding: "128 + 127 clip(mean / mean_scale, -1, 1): below 128 inside a jar, 128 on \
-                   a surface, above in free space",
-    },
-    MapChannel {
-        mode: "gpis",
-        channel: 1,
-        name: "std",
-        encoding: "255 clip(std / std_scale, 0, 1): the GPIS posterior standard deviation",
-    },
-    MapChannel {
-        mode: "occupancy",
-        channel: 0,
-        name: "occupied",
-        encoding: "255 P(occupied): 128 where unknown",
-    },
-    MapChannel {
-        mode: "occupancy",
-        channel: 1,
-        name: "empty",
-        encoding: "0 (this map has no uncertainty; the channel keeps the space the same \
-                   across modes)",
-    },
-];
-
-/// The nearest byte to `value` in [0, 255], halves rounded up: `value + 0.5` truncated,
-/// which (unlike `f64::round`, a libm call) the compiler vectorises.
-#[inline]
-fn to_byte(value: f64) -> u8 {
-    (value + 0.5) as u8
-}
-
-/// Writes the GPIS image into `out` (length 2·G): the `gpis` rows of [`MAP_CHANNELS`].
-/// Cost O(G).
-pub fn encode_gpis(gpis: &Gpis, mean_scale: f64, std_scale: f64, out: &mut [u8]) {
-    let cells = gpis.mean_grid().len();
-    let (mean_channel, std_channel) = out.split_at_mut(cells);
-    for (pixel, &mean) in mean_channel.iter_mut().zip(gpis.mean_grid()) {
-        *pixel = to_byte(128.0 + 127.0 * (mean / mean_scale).clamp(-1.0, 1.0));
-    }
-    for (pixel, &variance) in std_channel.iter_mut().zip(gpis.variance_grid()) {
-        *pixel = to_byte(255.0 * (variance.max(0.0).sqrt() / std_scale).clamp(0.0, 1.0));
-    }
-}
-
-/// Writes the occupancy image into `out` (length 2·G): the `occupancy` rows of
-/// [`MAP_CHANNELS`]. Cost O(G).
-pub fn encode_occupancy(grid: &OccupancyGrid, out: &mut [u8]) {
-    let cells = grid.log_odds().len();
-    let (probability_channel, empty_channel) = out.split_at_mut(cells);
-    for (index, pixel) in probability_channel.iter_mut().enumerate() {
-        *pixel = to_byte(f64::from(255.0 * grid.probability(index)));
-    }
-    empty_channel.fill(0);
 }
 
 #[cfg(test)]

@@ -13,15 +13,17 @@ from tactile_search.envs.config import (
     CupboardSearchConfig,
     with_settings_signature,
 )
-from tactile_search.envs.observation import fill_docstring
+from tactile_search.envs.observation import MAP_CHANNELS, fill_docstring
 
 
 def observation_space(config: CupboardSearchConfig, proprio_len: int) -> spaces.Dict:
     """The Dict observation space of one environment."""
     entries: dict[str, spaces.Space] = {}
-    if config.map != "none":
+    # The image's channel count is the map mode's, from the core's table (0: no image).
+    channels = sum(1 for mode, _ in MAP_CHANNELS if mode == config.map)
+    if channels:
         height, width = config.grid_shape
-        entries["map"] = spaces.Box(0, 255, (2, height, width), np.uint8)
+        entries["map"] = spaces.Box(0, 255, (channels, height, width), np.uint8)
     entries["proprio"] = spaces.Box(-1.0, 1.0, (proprio_len,), np.float32)
     return spaces.Dict(entries)
 

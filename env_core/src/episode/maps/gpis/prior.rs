@@ -10,8 +10,8 @@
 //! [`MapConfig::free_space_offset`], leaving out the walls' points
 //! [`MapConfig::wall_clearance`].
 
-use super::config::MapConfig;
-use super::error::EpisodeError;
+use crate::episode::error::EpisodeError;
+use crate::episode::maps::MapConfig;
 use crate::gpis::{GridSpec, Observation};
 use crate::scene::point_cloud::thin_indices;
 use crate::settings::SettingError;
@@ -61,7 +61,7 @@ fn clusters(points: &[[f64; 2]]) -> Vec<Vec<usize>> {
 /// the rest thinned evenly to `max_prior_depth_points`; then come the free-space points
 /// and the circle priors (a circle that does not fit in the bounds is dropped). The list is
 /// cut so that it holds at most `max_rows / 2` GP rows: the rest is room for touch.
-/// `config` must be valid ([`super::EpisodeConfig::validate`]); fails on a non-finite
+/// `config` must be valid ([`crate::episode::EpisodeConfig::validate`]); fails on a non-finite
 /// camera. Cost O(p + n²) for p slice points and n kept points.
 pub fn depth_prior(
     slice: &[[f64; 2]],

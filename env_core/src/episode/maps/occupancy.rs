@@ -1,12 +1,47 @@
-//! A plain occupancy evidence grid (log-odds) built from the same depth and touch points as
-//! the GPIS: the `occupancy` map mode, a baseline map without uncertainty.
+//! The `occupancy` map mode: a plain occupancy evidence grid (log-odds) built from the same
+//! depth and touch points as the GPIS, a baseline map without uncertainty. Its image is the
+//! probability of occupancy as a byte, and an empty channel.
 //!
 //! Depth: every cell a camera ray crosses before its hit gains free evidence, the hit cell
 //! gains occupied evidence. Touch: the cell just behind the contact (along −normal) gains
 //! occupied evidence, the cell just in front of it free evidence. Cost: O(ray length / cell)
-//! per ray, O(1) per contact.
+//! per ray, O(1) per contact, O(G) per image and per IoU.
 
+use std::any::Any;
+
+use super::{
+    to_byte, AgentMap, ChannelDecoder, GridValues, MapChannel, MapConfig, MapKind, TouchReport,
+};
+use crate::episode::error::EpisodeError;
+use crate::episode::metrics::iou;
 use crate::gpis::GridSpec;
+use crate::scene::Contact;
+
+/// The `occupancy` row of the map-mode table.
+pub(super) const KIND: MapKind = MapKind {
+    channels: &CHANNELS,
+    build: |_: &MapConfig, grid| Ok(Box::new(OccupancyGrid::new(grid.clone()))),
+};
+
+/// The image's channels: the probability of occupancy, and an empty one.
+pub const CHANNELS: [MapChannel; 2] = [
+    MapChannel {
+        name: "occupied",
+        encoding: "255 P(occupied): 128 where unknown",
+        decoded: Some(ChannelDecoder {
+            name: "occupied",
+            meaning: "the probability that the cell is occupied: pixel / 255 (0.502 where \
+                      unknown)",
+            value: |pixel, _| f64::from(pixel) / 255.0,
+        }),
+    },
+    MapChannel {
+        name: "empty",
+        encoding: "0 (this map has no uncertainty; the channel keeps the space the same \
+                   across modes)",
+        decoded: None,
+    },
+];
 
 /// Log-odds added to a cell seen occupied.
 const OCCUPIED: f32 = 0.85;
@@ -149,5 +184,76 @@ impl OccupancyGrid {
             ],
             FREE,
         );
+    }
+}
+
+impl AgentMap for OccupancyGrid {
+    /// Every depth ray of the slice, from the camera to its hit.
+    fn reset(&mut self, slice: &[[f64; 2]], camera: [f64; 2]) -> Result<(), EpisodeError> {
+        self.clear();
+        for &hit in slice {
+            self.add_ray(camera, hit);
+        }
+        Ok(())
+    }
+
+    /// Every reading, then the swept point as free evidence.
+    fn add_touch(&mut self, readings: &[Contact], swept: Option<[f64; 2]>) -> TouchReport {
+        for c in readings {
+            self.add_contact(c.point, c.normal);
+        }
+        if let Some(point) = swept {
+            self.add_free(point);
+        }
+        TouchReport {
+            changed: !readings.is_empty() || swept.is_some(),
+            ..TouchReport::default()
+        }
+    }
+
+    fn rows(&self) -> usize {
+        0
+    }
+
+    /// The interior is P(occupied) > 0.5.
+    fn iou(&self, truth: &[bool]) -> f64 {
+        iou((0..truth.len()).map(|i| self.probability(i) > 0.5), truth)
+    }
+
+    /// The [`CHANNELS`]. Cost O(G).
+    fn encode(&self, out: &mut [u8]) {
+        let cells = self.log_odds().len();
+        let (probability_channel, empty_channel) = out.split_at_mut(cells);
+        for (index, pixel) in probability_channel.iter_mut().enumerate() {
+            *pixel = to_byte(f64::from(255.0 * self.probability(index)));
+        }
+        empty_channel.fill(0);
+    }
+
+    /// `occupancy`: P(occupied), float32.
+    fn render_grids(&self) -> Vec<(&'static str, GridValues)> {
+        let p = (0..self.log_odds.len()).map(|i| self.probability(i)).collect();
+        vec![("occupancy", GridValues::F32(p))]
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every probability decodes within half a quantisation step of itself.
+    #[test]
+    fn decode_inverts_encode_within_a_step() {
+        let decode = CHANNELS[0].decoded.as_ref().unwrap().value;
+        let config = MapConfig::default();
+        for k in 0..=1000 {
+            let p = f64::from(k) / 1000.0;
+            let pixel = to_byte(255.0 * p);
+            assert!((decode(pixel, &config) - p).abs() <= 0.5 / 255.0 + 1e-15);
+        }
     }
 }
