@@ -1,8 +1,9 @@
 //! pyo3 bindings: the compiled module `tactile_search._core`, the seam between the pure-Rust
 //! core and Python. Thin: convert, release the GIL, call the core, convert back.
 //!
-//! - [`convert`]: type names, seeds, numpy arrays out of the core's data.
-//! - [`errors`]: every Python exception the bindings raise.
+//! - [`convert`]: seeds, numpy arrays out of the core's data.
+//! - [`errors`]: every Python exception the bindings raise, and the type names their
+//!   messages show.
 //! - [`settings`]: the generic glue over the core's settings tables (no key is listed here).
 //! - [`arrays`]: array arguments checked and converted.
 //! - [`geometry`], [`prior`]: the core's geometry, metrics and depth prior as functions,
