@@ -6,6 +6,8 @@
 //!   messages show.
 //! - [`settings`]: the generic glue over the core's settings tables (no key is listed here).
 //! - [`arrays`]: array arguments checked and converted.
+//! - [`decode`]: the map image's and the proprio vector's meaning and the static geometry,
+//!   for planners (`EpisodeBatch.decode_map`, `.decode_proprio`, `.geometry`).
 //! - [`geometry`], [`prior`]: the core's geometry, metrics and depth prior as functions,
 //!   so experiments run what the environment runs.
 //! - one file per class: [`gpis`] (`GpisCore`), [`scene`] (`Scene`), [`episode`]
@@ -15,6 +17,7 @@ mod actions;
 mod arrays;
 mod batch_arrays;
 mod convert;
+mod decode;
 mod episode;
 mod errors;
 mod exclusive;
