@@ -312,17 +312,19 @@ class EpisodeSettings(SceneSettings, total=False):
 
 def observation_layout() -> dict[str, list[dict[str, Any]]]: ...
 def step_info_fields() -> list[dict[str, str]]: ...
+def gpis_defaults() -> dict[str, float | int]: ...
 
 class GpisCore:
-    """The Rust GPIS behind ``tactile_search.Gpis``; prefer that class, which validates input."""
+    """The Rust GPIS behind ``tactile_search.Gpis``; prefer that class. The constructor checks
+    its arguments; ``None`` takes the default of ``gpis_defaults()``."""
 
     def __init__(
         self,
-        bounds: tuple[tuple[float, float], tuple[float, float]],
-        shape: tuple[int, int],
-        psi: float | None,
-        prior_mean: float,
-        max_rows: int,
+        bounds: Any,
+        shape: Any,
+        psi: float | None = None,
+        prior_mean: float | None = None,
+        max_rows: int | None = None,
     ) -> None: ...
     def add_values(
         self, points: NDArray[np.float64], values: NDArray[np.float64] | None, noise_std: float

@@ -36,6 +36,7 @@ use pyo3::prelude::*;
 #[pyo3(name = "_core")]
 fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<gpis::PyGpis>()?;
+    m.add_function(wrap_pyfunction!(gpis::gpis_defaults, m)?)?;
     m.add_class::<scene::PyScene>()?;
     m.add_class::<episode::PyEpisodeBatch>()?;
     geometry::register(m)?;
