@@ -255,3 +255,31 @@ def test_bad_circle_prior_raises(
     with pytest.raises(error, match=message):
         gpis.add_circle_prior(**kwargs)
     assert gpis.n_rows == 0
+
+
+def test_defaults_and_checks_come_from_the_core() -> None:
+    """The signatures show the core's defaults (``_core.gpis_defaults()``), and the default
+    psi is the core's factor times the bounds' diagonal."""
+    import inspect
+
+    from tactile_search import _core
+
+    defaults = _core.gpis_defaults()
+    params = inspect.signature(Gpis).parameters
+    assert params["prior_mean"].default == defaults["prior_mean"]
+    assert params["max_rows"].default == defaults["max_rows"]
+    add_values = inspect.signature(Gpis.add_values).parameters
+    assert add_values["noise_std"].default == defaults["value_noise_std"]
+    add_contacts = inspect.signature(Gpis.add_contacts).parameters
+    assert add_contacts["noise_std"].default == defaults["contact_noise_std"]
+    assert add_contacts["normal_noise_std"].default == defaults["normal_noise_std"]
+    circle = inspect.signature(Gpis.add_circle_prior).parameters
+    assert circle["diameter"].default == defaults["circle_diameter"]
+    gpis = Gpis(bounds=BOUNDS, shape=(8, 8))
+    diagonal = np.hypot(*np.ptp(np.asarray(BOUNDS), axis=1))
+    assert gpis.psi == pytest.approx(defaults["psi_factor"] * diagonal, rel=1e-12)
+    assert (gpis.prior_mean, gpis.max_rows) == (defaults["prior_mean"], defaults["max_rows"])
+    with pytest.raises(ValueError, match="max_rows must fit in 64 bits"):
+        _core.GpisCore(BOUNDS, (8, 8), max_rows=2**64)
+    with pytest.raises(TypeError, match="max_rows must be an integer, got bool: True"):
+        _core.GpisCore(BOUNDS, (8, 8), max_rows=True)

@@ -1,7 +1,8 @@
 """Turning user input into the arrays and scalars the Rust core takes, with clear errors.
 
 Each helper names the argument, what was expected and what came, and raises ``TypeError``
-for the wrong kind of thing and ``ValueError`` for the right kind with a wrong value.
+for the wrong kind of thing and ``ValueError`` for the right kind with a wrong value. (The
+``Gpis`` constructor's arguments, bounds, shape and counts, are checked by the core.)
 """
 
 from __future__ import annotations
@@ -60,43 +61,3 @@ def as_real(name: str, value: Any, *, minimum: float | None = None) -> float:
     if minimum is not None and result < minimum:
         raise ValueError(f"{name} must be at least {minimum}, got {result}")
     return result
-
-
-#: The largest count the core takes (a u64): beyond it pyo3 would raise OverflowError.
-MAX_COUNT = 2**64 - 1
-
-
-def as_count(name: str, value: Any, *, minimum: int = 1) -> int:
-    """An integer of at least ``minimum`` that fits in 64 bits."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise TypeError(f"{name} must be an integer, got {type(value).__name__}: {value!r}")
-    if value < minimum:
-        raise ValueError(f"{name} must be at least {minimum}, got {value}")
-    if value > MAX_COUNT:
-        raise ValueError(f"{name} must fit in 64 bits (at most 2**64 - 1), got {value}")
-    return int(value)
-
-
-def as_shape(name: str, value: Any) -> tuple[int, int]:
-    """A grid shape: two positive integers (H, W)."""
-    try:
-        items = tuple(value)
-    except TypeError:
-        raise TypeError(
-            f"{name} must be two positive integers (H, W), got {type(value).__name__}: {value!r}"
-        ) from None
-    if len(items) != 2:
-        raise ValueError(f"{name} must be two positive integers (H, W), got {value!r}")
-    return as_count(f"{name}[0]", items[0]), as_count(f"{name}[1]", items[1])
-
-
-def as_bounds(name: str, value: Any) -> tuple[tuple[float, float], tuple[float, float]]:
-    """Bounds ((x0, x1), (y0, y1)) with finite lower < upper along each axis."""
-    array = as_float_array(name, value)
-    if array.shape != (2, 2):
-        raise ValueError(f"{name} must be ((x0, x1), (y0, y1)), got shape {array.shape}")
-    require_finite(name, array)
-    for axis, (lower, upper) in zip("xy", array, strict=True):
-        if not lower < upper:
-            raise ValueError(f"{name} along {axis} must have lower < upper, got ({lower}, {upper})")
-    return (float(array[0, 0]), float(array[0, 1])), (float(array[1, 0]), float(array[1, 1]))

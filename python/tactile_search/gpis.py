@@ -21,14 +21,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from tactile_search import _core
-from tactile_search._validation import (
-    as_bounds,
-    as_count,
-    as_points,
-    as_real,
-    as_shape,
-    as_vector,
-)
+from tactile_search._validation import as_points, as_real, as_vector
+
+#: The defaults of the map and of its ``add_*`` calls, from the core (``_core.gpis_defaults()``:
+#: ``psi_factor``, ``prior_mean``, ``max_rows``, ``value_noise_std``, ``contact_noise_std``,
+#: ``normal_noise_std``, ``circle_diameter``); the signatures below show them.
+DEFAULTS: dict[str, float | int] = _core.gpis_defaults()
 
 
 class Gpis:
@@ -39,9 +37,10 @@ class Gpis:
         shape: ``(H, W)`` of the grid. Cell ``(i, j)`` has its centre at
             ``(x0 + (j + 0.5)(x1 - x0)/W, y0 + (i + 0.5)(y1 - y0)/H)``: row ``i`` runs along
             y, column ``j`` along x.
-        psi: the kernel's ψ, fixed for the map's life. ``None`` (default) gives 1.5 times the
-            bounds' diagonal; a ψ below the diagonal is refused, because the thin-plate
-            kernel is not a covariance beyond r = ψ.
+        psi: the kernel's ψ, fixed for the map's life. ``None`` (default) gives
+            ``DEFAULTS["psi_factor"]`` (the core's) times the bounds' diagonal; a ψ below the
+            diagonal is refused, because the thin-plate kernel is not a covariance beyond
+            r = ψ.
         prior_mean: constant prior mean of f. A positive value makes unobserved space read
             as free.
         max_rows: the most GP rows the map will hold (a value is 1 row, a contact 3). An
@@ -60,19 +59,17 @@ class Gpis:
         bounds: ArrayLike,
         shape: tuple[int, int],
         psi: float | None = None,
-        prior_mean: float = 0.0,
-        max_rows: int = 4096,
+        prior_mean: float = DEFAULTS["prior_mean"],
+        max_rows: int = DEFAULTS["max_rows"],
     ) -> None:
-        self._core = _core.GpisCore(
-            as_bounds("bounds", bounds),
-            as_shape("shape", shape),
-            None if psi is None else as_real("psi", psi),
-            as_real("prior_mean", prior_mean),
-            as_count("max_rows", max_rows),
-        )
+        # The core checks every argument (TypeError / ValueError naming it).
+        self._core = _core.GpisCore(bounds, shape, psi, prior_mean, max_rows)
 
     def add_values(
-        self, points: ArrayLike, values: ArrayLike | None = None, noise_std: float = 0.002
+        self,
+        points: ArrayLike,
+        values: ArrayLike | None = None,
+        noise_std: float = DEFAULTS["value_noise_std"],
     ) -> int:
         """Adds value observations f(points[i]) = values[i] (0, a surface, by default).
 
@@ -96,8 +93,8 @@ class Gpis:
         self,
         points: ArrayLike,
         normals: ArrayLike,
-        noise_std: float = 0.0005,
-        normal_noise_std: float = 0.05,
+        noise_std: float = DEFAULTS["contact_noise_std"],
+        normal_noise_std: float = DEFAULTS["normal_noise_std"],
         skip_below_variance: float | None = None,
     ) -> int:
         """Adds contacts: f(points[i]) = 0 and ∇f(points[i]) = normals[i] / |normals[i]|.
@@ -133,17 +130,17 @@ class Gpis:
     def add_circle_prior(
         self,
         centre: ArrayLike,
-        diameter: float = 0.03,
-        noise_std: float = 0.0005,
-        normal_noise_std: float = 0.05,
+        diameter: float = DEFAULTS["circle_diameter"],
+        noise_std: float = DEFAULTS["contact_noise_std"],
+        normal_noise_std: float = DEFAULTS["normal_noise_std"],
     ) -> int:
         """Adds the paper's circle prior: four contacts equally spaced on a circle.
 
         The contacts sit at angles 0, 90, 180 and 270 degrees on a circle of ``diameter``
         around ``centre`` (x, y), each with its outward radial normal, so f is shaped
-        (negative inside) before any touch. The paper uses 0.03 m; a circle much larger than
-        the object distorts the shape (its Fig. 8). The four points must lie inside the
-        bounds. Returns the number of rows added (12).
+        (negative inside) before any touch. The default diameter is the paper's; a circle
+        much larger than the object distorts the shape (its Fig. 8). The four points must lie
+        inside the bounds. Returns the number of rows added (12).
         """
         centre = as_vector("centre", centre, 2)
         return self._core.add_circle_prior(

@@ -8,8 +8,7 @@
 use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
-use super::convert::type_name;
-use super::errors::{shape_text, wrong_shape, wrong_value};
+use super::errors::{shape_text, type_name, wrong_shape, wrong_value};
 
 /// Reads `value` as an array of `shape` (`[3]` for one action, `[n, 3]` for a batch) into
 /// rows of 3; `what` names it in errors ("action" or "actions").

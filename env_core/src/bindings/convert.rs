@@ -1,19 +1,11 @@
-//! Conversion helpers shared by the classes: type names for messages, seeds, and numpy
-//! arrays out of the core's row-major data.
+//! Conversion helpers shared by the classes: seeds, and numpy arrays out of the core's
+//! row-major data.
 
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyInt};
 
 use super::errors::{wrong_type, wrong_value};
-
-/// The Python type name of `value`, for messages.
-pub(crate) fn type_name(value: &Bound<'_, PyAny>) -> String {
-    value
-        .get_type()
-        .name()
-        .map_or_else(|_| "?".to_owned(), |n| n.to_string())
-}
 
 /// A seed: an int in [0, 2**64).
 pub(crate) fn seed_of(seed: &Bound<'_, PyAny>) -> PyResult<u64> {

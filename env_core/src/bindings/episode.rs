@@ -15,6 +15,7 @@ use pyo3::types::{PyDict, PyList};
 use super::actions::action_rows;
 use super::batch_arrays::BatchArrays;
 use super::convert::seed_of;
+use super::decode::{geometry_dict, map_dict, proprio_dict};
 use super::errors::{episode_error, episode_index_error, wrong_type, wrong_value};
 use super::exclusive::Exclusive;
 use super::settings::{config_dict, config_from, describe};
@@ -461,5 +462,35 @@ impl PyEpisodeBatch {
     #[getter]
     fn map_bounds(&self) -> [[f64; 2]; 2] {
         self.config.map_bounds()
+    }
+
+    /// One map image `(C, H, W)` uint8 of this batch's map mode decoded to float64 `(H, W)`
+    /// arrays by name: `mean` and `std` (m) for `gpis`, `occupied` (a probability) for
+    /// `occupancy`. `TypeError` for anything but a uint8 array, `ValueError` for another
+    /// shape or in the `none` mode (no image).
+    fn decode_map<'py>(
+        &self,
+        py: Python<'py>,
+        image: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        map_dict(py, &self.config, image)
+    }
+
+    /// One proprio vector `(11,)` float32 decoded to its physical quantities by name (x, y,
+    /// yaw, deflection, in_contact, contact_dx, contact_dy, normal_x, normal_y, time_left,
+    /// steps). `TypeError` for anything but a float32 array, `ValueError` for another shape.
+    fn decode_proprio<'py>(
+        &self,
+        py: Python<'py>,
+        proprio: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        proprio_dict(py, &self.config, proprio)
+    }
+
+    /// The static geometry a planner may know, from the settings alone (no scene): the
+    /// cupboard, camera, hand sizes and bounds, jar radius range, map grid and its cells'
+    /// centres `xs`, `ys` (H, W).
+    fn geometry<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        geometry_dict(py, &self.config)
     }
 }

@@ -5,7 +5,6 @@
 use pyo3::exceptions::{PyIndexError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 
-use super::convert::type_name;
 use crate::episode::EpisodeError;
 use crate::gpis::GpisError;
 use crate::scene::SceneError;
@@ -58,6 +57,14 @@ impl From<EpisodeError> for PyErr {
         // a buffer of the wrong size); a batch's error names its episode itself.
         PyValueError::new_err(error.to_string())
     }
+}
+
+/// The Python type name of `value`, for messages.
+pub(crate) fn type_name(value: &Bound<'_, PyAny>) -> String {
+    value
+        .get_type()
+        .name()
+        .map_or_else(|_| "?".to_owned(), |n| n.to_string())
 }
 
 /// A `ValueError` for an array whose shape is not the one expected.

@@ -1,14 +1,19 @@
-//! `_core.GpisCore`: the Rust GPIS behind `tactile_search.Gpis` (which validates Python
-//! types and shapes first; this layer re-checks shapes so it is safe on its own).
+//! `_core.GpisCore`: the Rust GPIS behind `tactile_search.Gpis`, and `_core.gpis_defaults()`,
+//! the defaults its signature shows. The constructor's arguments are checked here (the
+//! wrapper passes them as they came): `TypeError` for the wrong kind, `ValueError` for a
+//! wrong value, each naming the argument, what was expected and what came. The `add_*`
+//! arguments come checked by the wrapper's array helpers; this layer re-checks shapes so it
+//! is safe on its own.
 
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBool, PyDict, PyFloat};
 
-use super::errors::wrong_shape;
+use super::errors::{type_name, wrong_shape};
 use super::exclusive::Exclusive;
 use super::prior::PyObservations;
-use crate::gpis::{AddReport, Gpis, GpisConfig, GpisError};
+use crate::gpis::{AddReport, Gpis, GpisConfig, GpisError, GPIS_DEFAULTS};
 
 /// An (H, W) grid and a second one of the same shape.
 type GridPair<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>);
@@ -20,6 +25,158 @@ fn to_points(what: &str, array: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64
         return Err(wrong_shape(what, "(N, 2)", view.shape()));
     }
     Ok(view.rows().into_iter().map(|r| [r[0], r[1]]).collect())
+}
+
+/// `value`'s type name and repr, as `float: nan`.
+fn described(value: &Bound<'_, PyAny>) -> String {
+    let repr = value
+        .repr()
+        .map_or_else(|_| "?".to_owned(), |r| r.to_string());
+    format!("{}: {repr}", type_name(value))
+}
+
+/// How Python writes the float `v` (`nan`, `inf`, `0.5`).
+fn float_text(py: Python<'_>, v: f64) -> String {
+    PyFloat::new(py, v)
+        .repr()
+        .map_or_else(|_| v.to_string(), |r| r.to_string())
+}
+
+/// `isinstance(value, numbers.<abc>)` and not a bool.
+fn is_number(value: &Bound<'_, PyAny>, abc: &str) -> PyResult<bool> {
+    let class = value.py().import("numbers")?.getattr(abc)?;
+    Ok(!value.is_instance_of::<PyBool>() && value.is_instance(&class)?)
+}
+
+/// A finite real scalar `what`.
+fn real(what: &str, value: &Bound<'_, PyAny>) -> PyResult<f64> {
+    if !is_number(value, "Real")? {
+        return Err(PyTypeError::new_err(format!(
+            "{what} must be a real number, got {}",
+            described(value)
+        )));
+    }
+    let v: f64 = value
+        .py()
+        .import("builtins")?
+        .getattr("float")?
+        .call1((value,))?
+        .extract()?;
+    if !v.is_finite() {
+        return Err(PyValueError::new_err(format!(
+            "{what} must be finite, got {}",
+            float_text(value.py(), v)
+        )));
+    }
+    Ok(v)
+}
+
+/// An integer `what` of at least 1 that fits in 64 bits.
+fn count(what: &str, value: &Bound<'_, PyAny>) -> PyResult<usize> {
+    if !is_number(value, "Integral")? {
+        return Err(PyTypeError::new_err(format!(
+            "{what} must be an integer, got {}",
+            described(value)
+        )));
+    }
+    let int = value.call_method0("__index__")?;
+    if int.lt(1)? {
+        return Err(PyValueError::new_err(format!(
+            "{what} must be at least 1, got {int}"
+        )));
+    }
+    let n: u64 = int.extract().map_err(|_| {
+        PyValueError::new_err(format!(
+            "{what} must fit in 64 bits (at most 2**64 - 1), got {int}"
+        ))
+    })?;
+    usize::try_from(n).map_err(|_| {
+        PyValueError::new_err(format!(
+            "{what} must fit in this machine's word (at most {}), got {int}",
+            usize::MAX
+        ))
+    })
+}
+
+/// A grid shape: two positive integers (H, W).
+fn grid_shape(value: &Bound<'_, PyAny>) -> PyResult<(usize, usize)> {
+    const EXPECTED: &str = "shape must be two positive integers (H, W)";
+    let items: Vec<Bound<'_, PyAny>> = value
+        .try_iter()
+        .map_err(|_| PyTypeError::new_err(format!("{EXPECTED}, got {}", described(value))))?
+        .collect::<PyResult<_>>()?;
+    let [h, w] = items.as_slice() else {
+        let repr = value.repr()?;
+        return Err(PyValueError::new_err(format!("{EXPECTED}, got {repr}")));
+    };
+    Ok((count("shape[0]", h)?, count("shape[1]", w)?))
+}
+
+/// Bounds ((x0, x1), (y0, y1)) with finite lower < upper along each axis.
+fn bounds(value: &Bound<'_, PyAny>) -> PyResult<[[f64; 2]; 2]> {
+    let py = value.py();
+    let numpy = py.import("numpy")?;
+    let kwargs = PyDict::new(py);
+    kwargs.set_item("dtype", numpy.getattr("float64")?)?;
+    let array = numpy
+        .call_method("ascontiguousarray", (value,), Some(&kwargs))
+        .map_err(|error| {
+            PyTypeError::new_err(format!(
+                "bounds must be an array of real numbers, got {}: {}",
+                type_name(value),
+                error.value(py)
+            ))
+        })?;
+    let shape: Vec<usize> = array.getattr("shape")?.extract()?;
+    if shape != [2, 2] {
+        let shape = array.getattr("shape")?.repr()?;
+        return Err(PyValueError::new_err(format!(
+            "bounds must be ((x0, x1), (y0, y1)), got shape {shape}"
+        )));
+    }
+    let flat: Vec<f64> = array.call_method0("ravel")?.extract()?;
+    if let Some(i) = flat.iter().position(|v| !v.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "bounds must be finite, got {} at index ({}, {})",
+            float_text(py, flat[i]),
+            i / 2,
+            i % 2
+        )));
+    }
+    let b = [[flat[0], flat[1]], [flat[2], flat[3]]];
+    for (axis, [lower, upper]) in ["x", "y"].into_iter().zip(b) {
+        // Finite here, so this is not (lower < upper).
+        if lower >= upper {
+            return Err(PyValueError::new_err(format!(
+                "bounds along {axis} must have lower < upper, got ({}, {})",
+                float_text(py, lower),
+                float_text(py, upper)
+            )));
+        }
+    }
+    Ok(b)
+}
+
+/// `value` unless it is missing or None.
+fn given<'a, 'py>(value: Option<&'a Bound<'py, PyAny>>) -> Option<&'a Bound<'py, PyAny>> {
+    value.filter(|v| !v.is_none())
+}
+
+/// The defaults of `tactile_search.Gpis` (the map's and its `add_*` calls'):
+/// `psi_factor`, `prior_mean`, `max_rows`, `value_noise_std`, `contact_noise_std`,
+/// `normal_noise_std`, `circle_diameter`.
+#[pyfunction]
+pub(super) fn gpis_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let d = PyDict::new(py);
+    let g = GPIS_DEFAULTS;
+    d.set_item("psi_factor", g.psi_factor)?;
+    d.set_item("prior_mean", g.prior_mean)?;
+    d.set_item("max_rows", g.max_rows)?;
+    d.set_item("value_noise_std", g.value_noise_std)?;
+    d.set_item("contact_noise_std", g.contact_noise_std)?;
+    d.set_item("normal_noise_std", g.normal_noise_std)?;
+    d.set_item("circle_diameter", g.circle_diameter)?;
+    Ok(d)
 }
 
 /// The exact incremental GPIS map (see `tactile_search.Gpis`).
@@ -51,15 +208,25 @@ impl PyGpis {
 
 #[pymethods]
 impl PyGpis {
+    /// A map over `bounds` ((x0, x1), (y0, y1)) on an `shape` (H, W) grid; `psi`,
+    /// `prior_mean` and `max_rows` default to `gpis_defaults()` (psi: `psi_factor` times
+    /// the bounds' diagonal). Every argument is checked, in order.
     #[new]
-    #[pyo3(signature = (bounds, shape, psi, prior_mean, max_rows))]
+    #[pyo3(signature = (bounds, shape, psi = None, prior_mean = None, max_rows = None))]
     fn new(
-        bounds: [[f64; 2]; 2],
-        shape: (usize, usize),
-        psi: Option<f64>,
-        prior_mean: f64,
-        max_rows: usize,
+        bounds: &Bound<'_, PyAny>,
+        shape: &Bound<'_, PyAny>,
+        psi: Option<&Bound<'_, PyAny>>,
+        prior_mean: Option<&Bound<'_, PyAny>>,
+        max_rows: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let bounds = self::bounds(bounds)?;
+        let shape = grid_shape(shape)?;
+        let psi = given(psi).map(|v| real("psi", v)).transpose()?;
+        let prior_mean =
+            given(prior_mean).map_or(Ok(GPIS_DEFAULTS.prior_mean), |v| real("prior_mean", v))?;
+        let max_rows =
+            given(max_rows).map_or(Ok(GPIS_DEFAULTS.max_rows), |v| count("max_rows", v))?;
         let inner = Gpis::new(GpisConfig {
             bounds,
             shape,

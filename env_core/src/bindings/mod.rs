@@ -1,10 +1,13 @@
 //! pyo3 bindings: the compiled module `tactile_search._core`, the seam between the pure-Rust
 //! core and Python. Thin: convert, release the GIL, call the core, convert back.
 //!
-//! - [`convert`]: type names, seeds, numpy arrays out of the core's data.
-//! - [`errors`]: every Python exception the bindings raise.
+//! - [`convert`]: seeds, numpy arrays out of the core's data.
+//! - [`errors`]: every Python exception the bindings raise, and the type names their
+//!   messages show.
 //! - [`settings`]: the generic glue over the core's settings tables (no key is listed here).
 //! - [`arrays`]: array arguments checked and converted.
+//! - [`decode`]: the map image's and the proprio vector's meaning and the static geometry,
+//!   for planners (`EpisodeBatch.decode_map`, `.decode_proprio`, `.geometry`).
 //! - [`geometry`], [`prior`]: the core's geometry, metrics and depth prior as functions,
 //!   so experiments run what the environment runs.
 //! - one file per class: [`gpis`] (`GpisCore`), [`scene`] (`Scene`), [`episode`]
@@ -14,6 +17,7 @@ mod actions;
 mod arrays;
 mod batch_arrays;
 mod convert;
+mod decode;
 mod episode;
 mod errors;
 mod exclusive;
@@ -32,6 +36,7 @@ use pyo3::prelude::*;
 #[pyo3(name = "_core")]
 fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<gpis::PyGpis>()?;
+    m.add_function(wrap_pyfunction!(gpis::gpis_defaults, m)?)?;
     m.add_class::<scene::PyScene>()?;
     m.add_class::<episode::PyEpisodeBatch>()?;
     geometry::register(m)?;

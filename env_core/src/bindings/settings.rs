@@ -10,8 +10,7 @@ use pyo3::types::{
     PyTuple,
 };
 
-use super::convert::type_name;
-use super::errors::wrong_type;
+use super::errors::{type_name, wrong_type};
 use crate::settings::{SettingValue, Settings};
 
 /// The Python value as a [`SettingValue`]; `TypeError` for anything a setting never takes

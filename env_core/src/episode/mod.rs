@@ -6,7 +6,8 @@
 //!   probes, the map and the scene).
 //! - [`maps`]: the agent's map, one file per map mode behind one trait (the GPIS, the
 //!   occupancy grid, none), with the map's settings, image channels and decoders.
-//! - [`observation`]: the proprio field table.
+//! - [`observation`]: the proprio field table, and its decoder.
+//! - [`static_geometry`]: the geometry a planner may know, from the configuration alone.
 //! - [`step_info`]: what a step did, and the field table of `info`.
 //! - [`metrics`]: true footprints and the IoU of a map against them.
 //! - [`level_set`], [`outline`]: the map's zero level set and its distance to the true
@@ -30,6 +31,7 @@ pub mod observation;
 pub mod oracle;
 pub mod outline;
 pub mod probe;
+pub mod static_geometry;
 pub mod step_info;
 
 pub use batch::{Command, EpisodeBatch};
@@ -37,7 +39,8 @@ pub use config::{EpisodeConfig, RewardConfig};
 pub use episode::Episode;
 pub use error::EpisodeError;
 pub use maps::{MapConfig, MapMode};
-pub use observation::{PROPRIO_FIELDS, PROPRIO_LEN};
+pub use observation::{decode_proprio, Quantity, PROPRIO_FIELDS, PROPRIO_LEN};
 pub use oracle::oracle_action;
 pub use probe::{ActionMode, ProbeConfig};
+pub use static_geometry::StaticGeometry;
 pub use step_info::{StepInfo, STEP_INFO_FIELDS};

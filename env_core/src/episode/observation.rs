@@ -146,6 +146,129 @@ pub fn proprio(config: &EpisodeConfig, scene: &Scene, steps: usize) -> [f32; PRO
     PROPRIO_FIELDS.map(|field| (field.value)(&inputs) as f32)
 }
 
+/// A physical quantity decoded from the proprio vector.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Quantity {
+    /// A real number (m, rad or a share).
+    Real(f64),
+    /// A flag.
+    Flag(bool),
+    /// A count.
+    Count(i64),
+}
+
+/// A proprio vector read by entry name, with the configuration its scales came from.
+pub struct ProprioReading<'a> {
+    /// The vector, as the observation holds it.
+    pub proprio: &'a [f32; PROPRIO_LEN],
+    /// The episode's configuration (hand geometry, workspace, `max_steps`).
+    pub config: &'a EpisodeConfig,
+}
+
+impl ProprioReading<'_> {
+    /// The entry `name` as stored (float32).
+    fn entry(&self, name: &str) -> f32 {
+        self.proprio[proprio_index(name).expect("a name of PROPRIO_FIELDS")]
+    }
+
+    /// The entry `name` widened to f64.
+    fn real(&self, name: &str) -> f64 {
+        f64::from(self.entry(name))
+    }
+}
+
+/// One physical quantity the proprio vector decodes to: the inverse of the scales of
+/// [`PROPRIO_FIELDS`], exact up to the float32 rounding of the entries (and their clamps).
+pub struct ProprioQuantity {
+    /// The quantity's name (the key of the decoded dict).
+    pub name: &'static str,
+    /// What it is, with its unit and how it is computed from the entries.
+    pub meaning: &'static str,
+    /// Computes it from the entries, in f64 in the order `meaning` states.
+    pub value: fn(&ProprioReading<'_>) -> Quantity,
+}
+
+/// `lo + (v + 1) · 0.5 · (hi − lo)`: the inverse of [`scaled`] inside its clamp.
+fn unscaled(v: f64, [lo, hi]: [f64; 2]) -> f64 {
+    lo + (v + 1.0) * 0.5 * (hi - lo)
+}
+
+/// Every quantity the proprio vector decodes to, entry by entry (`yaw` from the cosine and
+/// sine entries, `steps` from `time_left`).
+pub const PROPRIO_QUANTITIES: [ProprioQuantity; 11] = [
+    ProprioQuantity {
+        name: "x",
+        meaning: "wrist x, m: x_min + (x + 1) * 0.5 * (x_max - x_min)",
+        value: |r| Quantity::Real(unscaled(r.real("x"), r.config.scene.hand.workspace[0])),
+    },
+    ProprioQuantity {
+        name: "y",
+        meaning: "wrist y, m: y_min + (y + 1) * 0.5 * (y_max - y_min)",
+        value: |r| Quantity::Real(unscaled(r.real("y"), r.config.scene.hand.workspace[1])),
+    },
+    ProprioQuantity {
+        name: "yaw",
+        meaning: "wrist yaw, rad in [-pi, pi]: atan2(sin_yaw, cos_yaw), in f64",
+        value: |r| Quantity::Real(r.real("sin_yaw").atan2(r.real("cos_yaw"))),
+    },
+    ProprioQuantity {
+        name: "deflection",
+        meaning: "the finger's deflection from the wrist, rad: deflection * finger_limit",
+        value: |r| Quantity::Real(r.real("deflection") * r.config.scene.hand.finger_limit),
+    },
+    ProprioQuantity {
+        name: "in_contact",
+        meaning: "whether the finger made a tactile reading this step: in_contact > 0.5",
+        value: |r| Quantity::Flag(r.entry("in_contact") > 0.5),
+    },
+    ProprioQuantity {
+        name: "contact_dx",
+        meaning: "the first reading's x offset from the wrist, m: finger_length * contact_dx \
+                  (clipped at +-finger_length; 0 without contact)",
+        value: |r| Quantity::Real(r.config.scene.hand.finger_length * r.real("contact_dx")),
+    },
+    ProprioQuantity {
+        name: "contact_dy",
+        meaning: "the first reading's y offset from the wrist, m: finger_length * contact_dy \
+                  (clipped at +-finger_length; 0 without contact)",
+        value: |r| Quantity::Real(r.config.scene.hand.finger_length * r.real("contact_dy")),
+    },
+    ProprioQuantity {
+        name: "normal_x",
+        meaning: "x of the touched jar's outward unit normal at the first reading (0 without)",
+        value: |r| Quantity::Real(r.real("normal_x")),
+    },
+    ProprioQuantity {
+        name: "normal_y",
+        meaning: "y of the touched jar's outward unit normal at the first reading (0 without)",
+        value: |r| Quantity::Real(r.real("normal_y")),
+    },
+    ProprioQuantity {
+        name: "time_left",
+        meaning: "the share of the time limit still left: time_left (floored at -1)",
+        value: |r| Quantity::Real(r.real("time_left")),
+    },
+    ProprioQuantity {
+        name: "steps",
+        meaning: "steps since reset: round((1 - time_left) * max_steps) (exact below \
+                  2 max_steps, where time_left is floored)",
+        value: |r| {
+            let steps = (1.0 - r.real("time_left")) * r.config.max_steps as f64;
+            Quantity::Count(steps.round() as i64)
+        },
+    },
+];
+
+/// The physical quantities of `proprio` (a vector of this `config`), by name in the order
+/// of [`PROPRIO_QUANTITIES`]. Cost O(1).
+pub fn decode_proprio(
+    proprio: &[f32; PROPRIO_LEN],
+    config: &EpisodeConfig,
+) -> [(&'static str, Quantity); PROPRIO_QUANTITIES.len()] {
+    let reading = ProprioReading { proprio, config };
+    PROPRIO_QUANTITIES.map(|q| (q.name, (q.value)(&reading)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -156,5 +279,73 @@ mod tests {
             assert_eq!(proprio_index(field.name), Some(index));
         }
         assert_eq!(proprio_index("no such entry"), None);
+    }
+
+    fn real(decoded: &[(&str, Quantity)], name: &str) -> f64 {
+        match decoded.iter().find(|(n, _)| *n == name).unwrap().1 {
+            Quantity::Real(v) => v,
+            other => panic!("{name}: {other:?}"),
+        }
+    }
+
+    /// Encode then decode gives the quantities back within the entries' float32 rounding.
+    #[test]
+    fn decode_inverts_the_proprio_scales() {
+        let config = EpisodeConfig::default();
+        let hand = &config.scene.hand;
+        for (k, yaw) in [-3.0, -1.2, 0.0, 0.4, 2.9].into_iter().enumerate() {
+            let pose = HandPose {
+                x: -0.2 + 0.1 * k as f64,
+                y: -0.1 + 0.07 * k as f64,
+                yaw,
+            };
+            let contact = Contact {
+                point: [pose.x + 0.031, pose.y - 0.052],
+                normal: [0.6, -0.8],
+                jar: 0,
+            };
+            let touching = k % 2 == 0;
+            let inputs = ProprioInputs {
+                pose,
+                finger_angle: 0.3 - 0.1 * k as f64,
+                contact: touching.then_some(&contact),
+                steps: 17 * k,
+                config: &config,
+            };
+            let proprio = PROPRIO_FIELDS.map(|field| (field.value)(&inputs) as f32);
+            let decoded = decode_proprio(&proprio, &config);
+            let close = |name: &str, want: f64, scale: f64| {
+                let got = real(&decoded, name);
+                assert!(
+                    (got - want).abs() <= 1e-6 * scale,
+                    "{name}: {got} vs {want}"
+                );
+            };
+            close("x", pose.x, 1.0);
+            close("y", pose.y, 1.0);
+            close("yaw", yaw, 1.0);
+            close("deflection", inputs.finger_angle, 1.0);
+            let in_contact = decoded.iter().find(|(n, _)| *n == "in_contact").unwrap().1;
+            assert_eq!(in_contact, Quantity::Flag(touching));
+            if touching {
+                close("contact_dx", contact.point[0] - pose.x, hand.finger_length);
+                close("contact_dy", contact.point[1] - pose.y, hand.finger_length);
+                close("normal_x", 0.6, 1.0);
+                close("normal_y", -0.8, 1.0);
+            }
+            let steps = decoded.iter().find(|(n, _)| *n == "steps").unwrap().1;
+            assert_eq!(steps, Quantity::Count(17 * k as i64));
+        }
+    }
+
+    #[test]
+    fn every_entry_is_decoded_by_its_name() {
+        for q in &PROPRIO_QUANTITIES {
+            assert!(
+                proprio_index(q.name).is_some() || ["yaw", "steps"].contains(&q.name),
+                "{}",
+                q.name
+            );
+        }
     }
 }

@@ -16,5 +16,5 @@ mod rejecting_cholesky;
 pub use error::GpisError;
 pub use grid::GridSpec;
 pub use kernel::{RowKind, ThinPlateKernel};
-pub use map::{AddReport, Gpis, GpisConfig, Prediction};
+pub use map::{AddReport, Gpis, GpisConfig, GpisDefaults, Prediction, GPIS_DEFAULTS};
 pub use observation::{Observation, Row};

@@ -15,9 +15,8 @@ use super::ray_cast::{Ray64, RayTargets};
 /// back-projected point, so culling never drops a point that lies in the band.
 const BAND_SLACK: f64 = 1e-6;
 
-/// Label of a pixel whose ray hit a cupboard wall.
-pub const LABEL_CUPBOARD: i32 = -1;
-/// Label of a pixel whose ray hit nothing within range.
+/// Label of a pixel whose ray hit nothing within range (a hit is labelled by its target:
+/// a jar's index or [`LABEL_CUPBOARD`](super::ray_cast::LABEL_CUPBOARD)).
 pub const LABEL_NONE: i32 = -2;
 
 /// A depth image and, per pixel, what its ray hit (ground truth, not an observation).
@@ -29,7 +28,7 @@ pub struct DepthImage {
     pub height: usize,
     /// Row-major z-depth, m; NaN where the ray hit nothing within range.
     pub depth: Vec<f64>,
-    /// Row-major: jar index, [`LABEL_CUPBOARD`] or [`LABEL_NONE`].
+    /// Row-major: jar index, [`LABEL_CUPBOARD`](super::ray_cast::LABEL_CUPBOARD) or [`LABEL_NONE`].
     pub labels: Vec<i32>,
 }
 

@@ -1,8 +1,49 @@
-//! A jar's footprint in the slice plane: a disc or a rotated square at a pose. The one place
-//! that knows the footprint's geometry (signed distance, outline, support), used by the
-//! episode's metrics, the approach field, the rendering and the paper's experiments alike.
+//! A jar's cross-section ([`JarShape`]) and its footprint in the slice plane: a disc or a
+//! rotated square at a pose. The one place that knows the footprint's geometry (signed
+//! distance, outline, support), used by the episode's metrics, the approach field, the
+//! rendering and the paper's experiments alike. Cost: O(1) per query, O(samples) per
+//! outline.
 
-use super::jar::JarShape;
+/// The cross-section of a jar.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum JarShape {
+    /// A cylinder.
+    Round {
+        /// Radius, m.
+        radius: f64,
+    },
+    /// A cuboid with a square cross-section.
+    Square {
+        /// Half the side, m.
+        half_side: f64,
+    },
+}
+
+impl JarShape {
+    /// `"round"` or `"square"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Round { .. } => "round",
+            Self::Square { .. } => "square",
+        }
+    }
+
+    /// Radius of the circle around the cross-section, m.
+    pub fn bounding_radius(self) -> f64 {
+        match self {
+            Self::Round { radius } => radius,
+            Self::Square { half_side } => half_side * std::f64::consts::SQRT_2,
+        }
+    }
+
+    /// The radius (round) or half side (square), m.
+    pub fn half_width(self) -> f64 {
+        match self {
+            Self::Round { radius } => radius,
+            Self::Square { half_side } => half_side,
+        }
+    }
+}
 
 /// A jar's cross-section placed at `centre` and rotated by `yaw` about z.
 #[derive(Debug, Clone, Copy, PartialEq)]

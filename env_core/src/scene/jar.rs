@@ -3,49 +3,8 @@
 
 use rapier3d::prelude::*;
 
-use super::footprint::Footprint;
+use super::footprint::{Footprint, JarShape};
 use super::groups;
-
-/// The cross-section of a jar.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum JarShape {
-    /// A cylinder.
-    Round {
-        /// Radius, m.
-        radius: f64,
-    },
-    /// A cuboid with a square cross-section.
-    Square {
-        /// Half the side, m.
-        half_side: f64,
-    },
-}
-
-impl JarShape {
-    /// `"round"` or `"square"`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Round { .. } => "round",
-            Self::Square { .. } => "square",
-        }
-    }
-
-    /// Radius of the circle around the cross-section, m.
-    pub fn bounding_radius(self) -> f64 {
-        match self {
-            Self::Round { radius } => radius,
-            Self::Square { half_side } => half_side * std::f64::consts::SQRT_2,
-        }
-    }
-
-    /// The radius (round) or half side (square), m.
-    pub fn half_width(self) -> f64 {
-        match self {
-            Self::Round { radius } => radius,
-            Self::Square { half_side } => half_side,
-        }
-    }
-}
 
 /// One jar of a layout: shape, size, mass and its resting pose on the floor.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -132,11 +91,5 @@ impl JarSpec {
             centre: [x, y],
             yaw,
         }
-    }
-
-    /// Signed distance from a point of the slice plane to the jar's footprint placed at
-    /// `(x, y, yaw)` (negative inside), m. Exact for both shapes. Cost: O(1).
-    pub fn footprint_distance(&self, point: [f64; 2], x: f64, y: f64, yaw: f64) -> f64 {
-        self.footprint_at(x, y, yaw).signed_distance(point)
     }
 }

@@ -19,7 +19,8 @@ use super::config::{LayoutConfig, TargetShape};
 use super::cupboard::Cupboard;
 use super::depth_camera::DepthCamera;
 use super::error::SceneError;
-use super::jar::{JarShape, JarSpec};
+use super::footprint::JarShape;
+use super::jar::JarSpec;
 use super::visibility::{target_visibility, Visibility};
 
 /// A jar-free, axis-aligned lane in the slice plane from the opening to the target's side.

@@ -43,14 +43,15 @@ pub use config::{
     TargetShape, TouchConfig,
 };
 pub use cupboard::{Cupboard, Wall, WallBox};
-pub use depth_camera::{DepthCamera, DepthImage, LABEL_CUPBOARD, LABEL_NONE};
+pub use depth_camera::{DepthCamera, DepthImage, LABEL_NONE};
 pub use disturbance::Disturbance;
 pub use error::SceneError;
-pub use footprint::Footprint;
+pub use footprint::{Footprint, JarShape};
 pub use hand::{Blocker, HandPose};
-pub use jar::{JarShape, JarSpec};
+pub use jar::JarSpec;
 pub use layout::{Corridor, Layout};
 pub use point_cloud::{DepthCapture, SliceSpec};
+pub use ray_cast::LABEL_CUPBOARD;
 pub use scene::{HandCommand, JarState, Scene, StepReport};
 pub use touch::Contact;
 pub use visibility::{target_visibility, Visibility};

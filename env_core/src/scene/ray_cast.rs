@@ -15,9 +15,11 @@ use rapier3d::glamx::{DQuat, DVec3};
 use rapier3d::prelude::*;
 
 use super::cupboard::Cupboard;
-use super::depth_camera::LABEL_CUPBOARD;
 use super::groups;
 use super::jar::JarSpec;
+
+/// Label of a target that is a cupboard wall (a jar's label is its index).
+pub const LABEL_CUPBOARD: i32 = -1;
 
 /// A ray in f64 with a unit direction.
 #[derive(Debug, Clone, Copy, PartialEq)]
