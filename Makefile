@@ -37,7 +37,7 @@ results: $(VENV)/.extra-agents $(VENV)/.extra-scale build ## the documented budg
 
 test: build-dev $(VENV)/.extra-scale lint ## cargo fmt/clippy, ruff, cargo test and pytest (Ray tests on a local cluster)
 	cargo test --workspace
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q --durations=15
 
 paper: build ## regenerate docs/paper/ figures and docs/PAPER.md's table (experiments/paper)
 	$(PY) -m experiments.paper --out docs/paper

@@ -3,6 +3,7 @@ are bounded and seeded, the oracle solves an episode, and the rollout summarises
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 import numpy as np
@@ -46,13 +47,19 @@ def test_planner_touches_the_target_without_ground_truth_or_tipping(seed: int) -
 
 
 class StaticConfigOnly:
-    """What a planner may be handed instead of the env: the static configuration alone (no
-    episode, no scene, no oracle; any other attribute is an ``AttributeError``)."""
+    """What a planner may be handed instead of the env: the static configuration and what
+    the core derives from it alone (its geometry and the decoders of its observation), taken
+    from a twin env of the same settings that never saw the episode (no episode, no scene, no
+    oracle; any other attribute is an ``AttributeError``)."""
 
-    __slots__ = ("config",)
+    __slots__ = ("config", "decode_map", "decode_proprio", "geometry")
 
     def __init__(self, env: CupboardSearchEnv) -> None:
         self.config = env.config
+        twin = CupboardSearchEnv(**dataclasses.asdict(env.config))
+        self.geometry = twin.geometry
+        self.decode_map = twin.decode_map
+        self.decode_proprio = twin.decode_proprio
 
 
 @pytest.mark.parametrize("seed", PLANNER_SEEDS[:3])

@@ -25,6 +25,8 @@ from __future__ import annotations
 
 import dataclasses
 import enum
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -121,6 +123,8 @@ class GpisPlanner:
         self.phase: Phase | None = None
         self._was_in_contact = False
         self._last_finger: tuple[np.ndarray, np.ndarray] | None = None
+        self._decode_map: Callable[[np.ndarray], dict[str, np.ndarray]] | None = None
+        self._decode_proprio: Callable[[np.ndarray], dict[str, Any]] | None = None
 
     # -- episode -----------------------------------------------------------------------
 
@@ -128,7 +132,10 @@ class GpisPlanner:
         if "map" not in observation:
             raise ValueError("GpisPlanner needs the map observation (map='gpis')")
         self.geometry = Geometry.from_env(env)
-        self.belief = SearchMap(self.geometry, observation["map"])
+        # The core's decoders of this env's observation (its map mode and scales).
+        self._decode_map = env.decode_map
+        self._decode_proprio = env.decode_proprio
+        self.belief = SearchMap(self.geometry, self._decode_map(observation["map"]))
         self.probe = None
         self.phase = None
         self._was_in_contact = False
@@ -137,7 +144,7 @@ class GpisPlanner:
     def act(self, observation: dict) -> np.ndarray:
         if self.belief is None or self.geometry is None:
             raise RuntimeError("call reset before act")
-        self.belief.update(observation["map"])
+        self.belief.update(self._decode_map(observation["map"]))
         pose = self._pose(observation["proprio"])
         self._remember_touch(pose)
         if self.probe is None:
@@ -151,30 +158,29 @@ class GpisPlanner:
     # -- observation -------------------------------------------------------------------
 
     def _pose(self, proprio: np.ndarray) -> Pose:
-        g = self.geometry
-        (x0, x1), (y0, y1) = g.workspace
-        p = PROPRIO  # entry indices by name, from the core's observation layout
-        x = x0 + (float(proprio[p["x"]]) + 1.0) * 0.5 * (x1 - x0)
-        y = y0 + (float(proprio[p["y"]]) + 1.0) * 0.5 * (y1 - y0)
-        yaw = float(np.arctan2(proprio[p["sin_yaw"]], proprio[p["cos_yaw"]]))
-        deflection = float(proprio[p["deflection"]]) * g.finger_limit
+        q = self._decode_proprio(proprio)  # physical quantities, decoded by the core
+        x, y, deflection = q["x"], q["y"], q["deflection"]
+        # The heading in float32 from the observed (unscaled) sin and cos, as the planner's
+        # constants were chosen with on the validation layouts; the core's q["yaw"] is the
+        # same angle in f64 and differs in the last bits, which moves one planner episode of
+        # 50 by micrometres.
+        yaw = float(np.arctan2(proprio[PROPRIO["sin_yaw"]], proprio[PROPRIO["cos_yaw"]]))
         contact = normal = None
-        if proprio[p["in_contact"]] > 0.5:
-            offset = proprio[[p["contact_dx"], p["contact_dy"]]]
+        if q["in_contact"]:
+            offset = np.array([q["contact_dx"], q["contact_dy"]])
             contact = self._contact_point(x, y, yaw + deflection, yaw, offset)
-            normal = np.asarray(proprio[[p["normal_x"], p["normal_y"]]], float)
+            normal = np.array([q["normal_x"], q["normal_y"]])
         return Pose(x, y, yaw, deflection, contact, normal)
 
     def _contact_point(
         self, x: float, y: float, heading: float, yaw: float, offset: np.ndarray
     ) -> np.ndarray:
-        """The contact point from its offset to the wrist (over the finger length). The
-        observation clips the offset to [-1, 1], which cuts off contacts near the fingertip;
-        those are put back on the finger from the unclipped component."""
+        """The contact point from its offset to the wrist (m). The observation clips the
+        offset at the finger length, which cuts off contacts near the fingertip; those are put
+        back on the finger from the unclipped component."""
         g = self.geometry
-        offset = np.asarray(offset, float)
-        point = np.array([x, y]) + g.finger_length * offset
-        clipped = np.abs(offset) >= 0.999
+        point = np.array([x, y]) + offset
+        clipped = np.abs(offset) >= 0.999 * g.finger_length
         if not clipped.any():
             return point
         joint = np.array([x, y]) + g.joint_offset * _forward(yaw)

@@ -1,6 +1,7 @@
 """The planner's belief: the decoded GPIS map plus its own memory of touch.
 
-From the observation alone: the GPIS mean and std (decoded from the uint8 map), the camera's
+From the observation alone: the GPIS mean and std (the uint8 map decoded by the core,
+``CupboardSearchEnv.decode_map``), the camera's
 shadows (cells behind surfaces the first look saw, by angular sweeps from the camera), the
 cells the finger has swept without contact (no jar can stand there) and the jars it touched
 (not the target: touching the target ends the episode). From these it gives
@@ -20,7 +21,6 @@ from __future__ import annotations
 import numpy as np
 
 from agents.scripted.geometry import Geometry
-from tactile_search.envs.observation import MAP_CHANNELS
 
 # Angular resolution of the shadow sweep, rad.
 ANGLE_BIN = 0.004
@@ -32,14 +32,6 @@ SHADOW_HALF_WIDTH = 0.015
 SOLID_MEAN = 0.002
 # ...where the std is below this (elsewhere a negative mean is the GPIS extrapolating), m.
 SOLID_STD = 0.02
-
-
-def decode_map(image: np.ndarray, geometry: Geometry) -> tuple[np.ndarray, np.ndarray]:
-    """GPIS ``(mean, std)``, each ``(H, W)`` in metres, from the uint8 ``(2, H, W)`` map."""
-    pixels = image.astype(np.float64)
-    mean = (pixels[MAP_CHANNELS["gpis", "mean"]] - 128.0) / 127.0 * geometry.mean_scale
-    std = pixels[MAP_CHANNELS["gpis", "std"]] / 255.0 * geometry.std_scale
-    return mean, std
 
 
 def distance_to(mask: np.ndarray, cell: float, cap: float = 0.08) -> np.ndarray:
@@ -63,17 +55,20 @@ def distance_to(mask: np.ndarray, cell: float, cap: float = 0.08) -> np.ndarray:
 class SearchMap:
     """Belief over the cupboard for one episode; see the module docstring."""
 
-    def __init__(self, geometry: Geometry, image: np.ndarray) -> None:
+    def __init__(self, geometry: Geometry, decoded: dict[str, np.ndarray]) -> None:
+        """``decoded``: the first observation's GPIS map as the core decodes it (``mean`` and
+        ``std``, (H, W), m)."""
         self.geometry = geometry
         self.xs, self.ys = geometry.cell_centres()
-        self.mean, self.std = decode_map(image, geometry)
+        self.mean, self.std = decoded["mean"], decoded["std"]
         self.seen = self.solid(0.0)
         self.behind, self.behind_wide = self._depth_behind_surfaces(self.seen)
         self.swept = np.zeros(self.xs.shape, dtype=bool)
         self.touched: list[np.ndarray] = []
 
-    def update(self, image: np.ndarray) -> None:
-        self.mean, self.std = decode_map(image, self.geometry)
+    def update(self, decoded: dict[str, np.ndarray]) -> None:
+        """The GPIS map of a new observation, as the core decodes it."""
+        self.mean, self.std = decoded["mean"], decoded["std"]
 
     def solid(self, level: float = SOLID_MEAN) -> np.ndarray:
         """Cells the map is confident are inside or on a jar (mean below ``level``)."""

@@ -1,4 +1,4 @@
-//! Criterion benchmark of the GPIS contact append against a full recompute (DESIGN.md §5).
+//! Criterion benchmark of the GPIS contact append against a full recompute (`docs/DESIGN.md` §5).
 //!
 //! Map: x in [-0.3, 0.3], y in [0, 0.3] (metres), 64 x 64 grid, default psi. For each n the
 //! map holds exactly n rows: value rows at distinct random points (noise_std 0.002) plus

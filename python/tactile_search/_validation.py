@@ -61,3 +61,19 @@ def as_real(name: str, value: Any, *, minimum: float | None = None) -> float:
     if minimum is not None and result < minimum:
         raise ValueError(f"{name} must be at least {minimum}, got {result}")
     return result
+
+
+#: The largest count the core takes (a u64): beyond it pyo3 would raise OverflowError.
+MAX_COUNT = 2**64 - 1
+
+
+def as_count(name: str, value: Any, *, minimum: int = 1) -> int:
+    """An integer of at least ``minimum`` that fits in 64 bits: the one check of a count in
+    the project (the agents' thread counts, checkpoint intervals, encoder widths...)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be an integer, got {type(value).__name__}: {value!r}")
+    if value < minimum:
+        raise ValueError(f"{name} must be at least {minimum}, got {value}")
+    if value > MAX_COUNT:
+        raise ValueError(f"{name} must fit in 64 bits (at most 2**64 - 1), got {value}")
+    return int(value)

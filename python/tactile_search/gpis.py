@@ -4,7 +4,7 @@ The map holds an exact posterior over an implicit function f of the plane, with 
 inside objects, f = 0 on their surfaces and f > 0 in free space. Depth points are value
 observations (f = 0); a touch is a contact: f = 0 at the point and ∇f = the outward normal.
 The posterior mean and variance are kept on an (H, W) grid and updated incrementally as rows
-are added, in O(k·n·G) for k new rows, n rows held and G grid cells. See DESIGN.md §3.
+are added, in O(k·n·G) for k new rows, n rows held and G grid cells. See ``docs/DESIGN.md`` §3.
 
 Example::
 

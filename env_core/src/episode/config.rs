@@ -1,4 +1,4 @@
-//! Every setting of an episode, declared once (design notes §4 and §8): the reward and the
+//! Every setting of an episode, declared once (`docs/DESIGN.md` §4 and §8): the reward and the
 //! episode end, with the probes', the map's ([`super::maps::MapConfig`], beside the map
 //! modes) and the scene's settings as sections. The settings table is what the
 //! environment's keyword arguments, its docs and the stub are made from.

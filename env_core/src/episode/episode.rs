@@ -1,5 +1,5 @@
 //! One mechanical-search episode: the scene, the map built from its depth and touch, the
-//! reward and the episode end (design notes §4).
+//! reward and the episode end (`docs/DESIGN.md` §4).
 //!
 //! reset(seed): new layout, first depth look, the map started from the depth slice, hand at
 //! the opening. step(action): scale and clip the wrist motion, step the scene (several

@@ -1,4 +1,4 @@
-//! Mechanical-search episodes (design notes §4): the scene plus the agent's map, reward and
+//! Mechanical-search episodes (`docs/DESIGN.md` §4): the scene plus the agent's map, reward and
 //! episode end, and a batch of episodes stepped in parallel.
 //!
 //! - [`approach`]: the fingertip's path distance to the target (reward shaping).

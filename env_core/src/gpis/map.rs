@@ -34,7 +34,7 @@ use super::kernel::{RowKind, ThinPlateKernel};
 use super::observation::{noise_variance, Observation, Row};
 use super::rejecting_cholesky::{factor_rejecting, GroupOutcome, RejectingFactor, RowGroup};
 
-/// Default ψ as a multiple of the bounds' diagonal (DESIGN.md §3).
+/// Default ψ as a multiple of the bounds' diagonal (`docs/DESIGN.md` §3).
 pub const DEFAULT_PSI_FACTOR: f64 = 1.5;
 
 /// Rows appended per blocked update. Larger chunks turn more of the work into matrix

@@ -1,5 +1,5 @@
 //! Every setting of the cupboard scene, declared once: key, meaning, type, default and valid
-//! range (design notes §2 and §8). The [`settings!`](crate::settings!) tables are what the
+//! range (`docs/DESIGN.md` §2 and §8). The [`settings!`](crate::settings!) tables are what the
 //! bindings, the Python config, the docs and the stub read; [`SceneConfig::validate`] checks
 //! each setting's range and then the relations between settings.
 //!

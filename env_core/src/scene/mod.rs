@@ -1,4 +1,4 @@
-//! The cupboard scene in rapier3d (design notes §2; paper §IV.A): one shelf compartment,
+//! The cupboard scene in rapier3d (`docs/DESIGN.md` §2; paper §IV.A): one shelf compartment,
 //! 3–7 dynamic spice jars with a hidden target, a pinhole depth camera for the first look, and
 //! the Exploratory Hand whose compliant finger senses contacts.
 //!

@@ -1,4 +1,4 @@
-//! The GPIS prior from the depth camera's first look (design notes §3, paper §IV.A):
+//! The GPIS prior from the depth camera's first look (`docs/DESIGN.md` §3, paper §IV.A):
 //! surface points (f = 0), optional free-space points in front of them along their camera
 //! rays (f = +offset), and the optional circle prior behind each cluster of depth points.
 //!

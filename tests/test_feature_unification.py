@@ -1,0 +1,77 @@
+"""The core's dependency graph is the same with and without the ``python`` feature.
+
+``env_core/Cargo.toml`` asks for the features that numpy and pyo3 turn on in crates the
+core shares with them (num-traits, matrixmultiply, syn, ...), so that the extension's build
+(``maturin develop --release``, with ``python``), ``cargo clippy`` with and without the
+feature and ``cargo test --release`` (without it) share one compiled copy of rapier and
+faer. When a dependency update makes the two graphs part, each of those builds compiles the
+whole tree again: this test names the crates whose features differ.
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+LINE = re.compile(r"^(?P<crate>\S+ v\S+)(?: \(.*?\))? \[(?P<features>[^\]]*)\]")
+
+pytestmark = pytest.mark.skipif(shutil.which("cargo") is None, reason="needs cargo")
+
+
+def crate_features(*cargo_args: str) -> dict[str, set[str]]:
+    """Every crate of the core's graph (normal and build dependencies, proc macros among
+    them) with the features cargo resolves for it, by ``name vX.Y.Z``."""
+    done = subprocess.run(
+        [
+            "cargo",
+            "tree",
+            "--locked",
+            "-p",
+            "env_core",
+            "-e",
+            "normal,build",
+            "--prefix",
+            "none",
+            "-f",
+            "{p} [{f}]",
+            *cargo_args,
+        ],
+        cwd=REPO,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=True,
+    )
+    found: dict[str, set[str]] = {}
+    for line in done.stdout.splitlines():
+        match = LINE.match(line)
+        if match:
+            features = {f for f in match["features"].split(",") if f}
+            found.setdefault(match["crate"], set()).update(features)
+    return found
+
+
+def test_the_parser_reads_cargo_trees_lines() -> None:
+    match = LINE.match("env_core v0.1.0 (/work/env_core) [default,python]")
+    assert match and match["crate"] == "env_core v0.1.0" and match["features"] == "default,python"
+    match = LINE.match("pyo3-macros v0.30.1 (proc-macro) []")
+    assert match and match["crate"] == "pyo3-macros v0.30.1" and match["features"] == ""
+
+
+def test_shared_crates_get_the_same_features_with_and_without_python() -> None:
+    without = crate_features()
+    with_python = crate_features("--features", "python")
+    assert "rapier3d" in " ".join(without) and "pyo3" in " ".join(with_python)
+    parted = {
+        crate: {"without python": sorted(without[crate]), "with": sorted(with_python[crate])}
+        for crate in sorted(set(without) & set(with_python))
+        if without[crate] != with_python[crate] and not crate.startswith("env_core ")
+    }
+    assert parted == {}, (
+        "ask for these features in env_core/Cargo.toml too (see its feature-unification note)"
+    )
