@@ -36,7 +36,7 @@ results: $(VENV)/.extra-agents $(VENV)/.extra-scale build ## the documented budg
 	$(PY) -m agents.pipeline --budget full
 
 test: build-dev $(VENV)/.extra-scale lint ## cargo fmt/clippy, ruff, cargo test and pytest (Ray tests on a local cluster)
-	cargo test --workspace
+	cargo test --workspace --release
 	$(PY) -m pytest -q --durations=15
 
 paper: build ## regenerate docs/paper/ figures and docs/PAPER.md's table (experiments/paper)

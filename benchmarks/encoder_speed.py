@@ -40,6 +40,7 @@ from agents.sb3.encoders import (
 )
 from agents.sb3.recipes import RUN_KEYS, algorithm_class, load_hyperparams
 from agents.sb3.training_env import make_training_env
+from tactile_search._validation import as_count
 
 # name -> (the recipe's map mode, the features extractor merged into policy_kwargs or None
 # for SB3's default CombinedExtractor).
@@ -53,11 +54,11 @@ BASELINE = "nature_cnn"
 
 
 def positive_int(text: str) -> int:
-    """argparse type: an int >= 1."""
-    value = int(text)
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive int, got {text!r}")
-    return value
+    """argparse type: an int >= 1 (the project's one count check, ``as_count``)."""
+    try:
+        return as_count("the value", int(text))
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(f"expected a positive int, got {text!r}: {err}") from err
 
 
 def json_object(text: str) -> dict[str, Any]:

@@ -1,11 +1,12 @@
-"""The core's dependency graph is the same with and without the ``python`` feature.
+"""The core's dependency graph is the same in the extension's build and in its test builds.
 
-``env_core/Cargo.toml`` asks for the features that numpy and pyo3 turn on in crates the
-core shares with them (num-traits, matrixmultiply, syn, ...), so that the extension's build
-(``maturin develop --release``, with ``python``), ``cargo clippy`` with and without the
-feature and ``cargo test --release`` (without it) share one compiled copy of rapier and
-faer. When a dependency update makes the two graphs part, each of those builds compiles the
-whole tree again: this test names the crates whose features differ.
+``env_core/Cargo.toml`` asks for the features that numpy and pyo3 (the ``python`` feature)
+and the dev-dependencies turn on in crates the core shares with them (num-traits,
+matrixmultiply, either, syn, ...), so that the extension's build (``maturin develop
+--release``: ``python``, no dev-dependencies), ``cargo clippy --all-targets`` with and
+without the feature and ``cargo test --release`` (dev-dependencies, no ``python``) share one
+compiled copy of rapier and faer. When a dependency update makes the graphs part, each of
+those builds compiles the whole tree again: this test names the crates whose features differ.
 """
 
 from __future__ import annotations
@@ -23,9 +24,10 @@ LINE = re.compile(r"^(?P<crate>\S+ v\S+)(?: \(.*?\))? \[(?P<features>[^\]]*)\]")
 pytestmark = pytest.mark.skipif(shutil.which("cargo") is None, reason="needs cargo")
 
 
-def crate_features(*cargo_args: str) -> dict[str, set[str]]:
-    """Every crate of the core's graph (normal and build dependencies, proc macros among
-    them) with the features cargo resolves for it, by ``name vX.Y.Z``."""
+def crate_features(edges: str, *cargo_args: str) -> dict[str, set[str]]:
+    """Every crate of the core's graph over ``edges`` (``normal,build`` for the extension;
+    with ``dev`` for a test build; proc macros among them) with the features cargo resolves
+    for it, by ``name vX.Y.Z``."""
     done = subprocess.run(
         [
             "cargo",
@@ -34,7 +36,7 @@ def crate_features(*cargo_args: str) -> dict[str, set[str]]:
             "-p",
             "env_core",
             "-e",
-            "normal,build",
+            edges,
             "--prefix",
             "none",
             "-f",
@@ -45,8 +47,8 @@ def crate_features(*cargo_args: str) -> dict[str, set[str]]:
         capture_output=True,
         text=True,
         timeout=300,
-        check=True,
     )
+    assert done.returncode == 0, done.stderr
     found: dict[str, set[str]] = {}
     for line in done.stdout.splitlines():
         match = LINE.match(line)
@@ -63,14 +65,15 @@ def test_the_parser_reads_cargo_trees_lines() -> None:
     assert match and match["crate"] == "pyo3-macros v0.30.1" and match["features"] == ""
 
 
-def test_shared_crates_get_the_same_features_with_and_without_python() -> None:
-    without = crate_features()
-    with_python = crate_features("--features", "python")
-    assert "rapier3d" in " ".join(without) and "pyo3" in " ".join(with_python)
+@pytest.mark.parametrize("build", ["without python", "tests"])
+def test_shared_crates_get_the_extensions_features(build: str) -> None:
+    extension = crate_features("normal,build", "--features", "python")
+    other = crate_features("normal,build,dev" if build == "tests" else "normal,build")
+    assert "rapier3d" in " ".join(other) and "pyo3" in " ".join(extension)
     parted = {
-        crate: {"without python": sorted(without[crate]), "with": sorted(with_python[crate])}
-        for crate in sorted(set(without) & set(with_python))
-        if without[crate] != with_python[crate] and not crate.startswith("env_core ")
+        crate: {build: sorted(other[crate]), "extension": sorted(extension[crate])}
+        for crate in sorted(set(other) & set(extension))
+        if other[crate] != extension[crate] and not crate.startswith("env_core ")
     }
     assert parted == {}, (
         "ask for these features in env_core/Cargo.toml too (see its feature-unification note)"
