@@ -27,11 +27,13 @@ import gymnasium as gym
 import yaml
 
 import tactile_search
-from agents.sb3.recipes import ALGORITHMS
 from tactile_search.envs.config import MAP_MODES
 
 # Where the published models are trained (agents.pipeline's full budget), from the repo root.
 PUBLISHED_RUNS = "docs/results/models"
+#: The algorithms a run may record as its ``algo`` (``agents.sb3.recipes`` gives each its
+#: SB3 class).
+ALGORITHMS = ("ppo", "recurrent_ppo")
 #: The files of a run directory.
 CONFIG_FILE = "config.yml"
 MODEL_FILE = "model.zip"

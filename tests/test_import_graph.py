@@ -131,6 +131,54 @@ def test_no_import_circle_among_the_python_packages() -> None:
     assert circles(graph) == []
 
 
+# The agents' commands: argparse over the subpackages, imported by nothing.
+AGENT_COMMANDS = (
+    "agents.train",
+    "agents.evaluate",
+    "agents.pipeline",
+    "agents.comparison",
+    "agents.probe_trace",
+    "agents.rllib_ppo",
+)
+
+
+def layer_breach(importer: str, imported: str) -> str | None:
+    """Why ``importer`` may not import ``imported`` (docs/DESIGN.md §1.1), or None."""
+
+    def within(name: str, *packages: str) -> bool:
+        return any(name == p or name.startswith(p + ".") for p in packages)
+
+    if within(importer, "tactile_search") and not within(imported, "tactile_search"):
+        return "the installed package imports nothing outside it"
+    if within(importer, "experiments") and within(imported, "agents", "benchmarks"):
+        return "experiments call the library, not the agents or a benchmark"
+    if within(importer, "agents") and within(imported, "benchmarks", "experiments"):
+        return "agents import no benchmark or experiment"
+    if within(imported, *AGENT_COMMANDS):
+        return "a command is imported by nothing"
+    if within(importer, "agents.run_dir", "agents.rollout") and within(imported, "agents"):
+        return "the two contracts stand on tactile_search alone"
+    return None
+
+
+def test_the_layer_rules_refuse_what_design_md_forbids() -> None:
+    assert layer_breach("tactile_search.gpis", "agents.sb3") is not None
+    assert layer_breach("agents.run_dir", "agents.sb3.recipes") is not None
+    assert layer_breach("agents.grid.pipeline", "agents.train") is not None
+    assert layer_breach("agents.sb3.training", "agents.run_dir") is None
+    assert layer_breach("benchmarks.gpis_append", "experiments.paper.gpis_timing") is None
+
+
+def test_every_import_follows_the_layers() -> None:
+    breaches = sorted(
+        f"{importer} -> {imported}: {why}"
+        for importer, targets in import_graph().items()
+        for imported in targets
+        if (why := layer_breach(importer, imported)) is not None
+    )
+    assert breaches == []
+
+
 def test_experiments_import_no_benchmark() -> None:
     graph = import_graph()
     offenders = {

@@ -10,10 +10,10 @@ from typing import Any
 
 import yaml
 
+from agents.run_dir import ALGORITHMS
 from tactile_search import ENV_ID
 
 HYPERPARAMS_DIR = Path(__file__).parents[1] / "hyperparams"
-ALGORITHMS = ("ppo", "recurrent_ppo")
 
 
 # Recipe keys that configure the run rather than the algorithm.
