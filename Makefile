@@ -9,7 +9,7 @@ export VIRTUAL_ENV := $(abspath $(VENV))
 export PATH := $(abspath $(VENV))/bin:$(PATH)
 
 .DEFAULT_GOAL := help
-.PHONY: help demo results test build build-dev bench fuzz lint format clean paper stubs
+.PHONY: help demo results test test-env build build-dev bench fuzz lint rust-lint python-lint format clean paper stubs
 
 help: ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  %-10s %s\n", $$1, $$2}'
@@ -35,9 +35,18 @@ demo: $(VENV)/.extra-agents build ## build, install, train two agents briefly, e
 results: $(VENV)/.extra-agents $(VENV)/.extra-scale build ## the documented budget: train every agent, evaluate, write docs/RESULTS.md
 	$(PY) -m agents.pipeline --budget full
 
-test: build-dev $(VENV)/.extra-scale lint ## cargo fmt/clippy, ruff, cargo test and pytest (Ray tests on a local cluster)
+# Two tracks side by side, each in order: the Rust lints (in their own target dir, so they
+# neither wait for the extension's build nor undo it) and the environment (venv, extras,
+# release build); then the Python lints, cargo test (release: on the build's dependencies)
+# and pytest on every core. docs/DESIGN.md §12 says where the time goes.
+test: ## cargo fmt/clippy, ruff, cargo test and pytest (Ray tests on a local cluster)
+	$(MAKE) --no-print-directory -j2 --output-sync=target rust-lint test-env
+	$(MAKE) --no-print-directory python-lint
 	cargo test --workspace --release
-	$(PY) -m pytest -q --durations=15
+	$(PY) -m pytest -q -n auto --dist loadfile --durations=15
+
+test-env: ## the venv with every extra the tests need, and the release build, one step at a time
+	$(MAKE) --no-print-directory -j1 build-dev $(VENV)/.extra-scale
 
 paper: build ## regenerate docs/paper/ figures and docs/PAPER.md's table (experiments/paper)
 	$(PY) -m experiments.paper --out docs/paper
@@ -59,11 +68,15 @@ fuzz: build-dev ## the long fuzz run: the Rust and Python property tests with ma
 stubs: $(VENV)/.extra-dev build ## regenerate the settings part of python/tactile_search/_core.pyi from the core
 	$(PY) scripts/generate_stub.py
 
-lint: $(VENV)/.extra-dev build ## cargo fmt --check, clippy -D warnings, ruff check and format --check, stub up to date
-	$(PY) scripts/generate_stub.py --check
+lint: rust-lint python-lint ## cargo fmt --check, clippy -D warnings, ruff check and format --check, stub up to date
+
+rust-lint: ## cargo fmt --check and clippy -D warnings, with and without the python feature
 	cargo fmt --all -- --check
-	cargo clippy --workspace --all-targets -- -D warnings
-	cargo clippy --workspace --all-targets --features python -- -D warnings
+	CARGO_TARGET_DIR=target/lint cargo clippy --workspace --all-targets -- -D warnings
+	CARGO_TARGET_DIR=target/lint cargo clippy --workspace --all-targets --features python -- -D warnings
+
+python-lint: $(VENV)/.extra-dev build ## the stub up to date with the core, ruff check and format --check
+	$(PY) scripts/generate_stub.py --check
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/ruff format --check .
 
