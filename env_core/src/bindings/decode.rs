@@ -104,7 +104,7 @@ pub(super) fn geometry_dict<'py>(
     py: Python<'py>,
     config: &EpisodeConfig,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let g = StaticGeometry::of(config);
+    let g = StaticGeometry::of(config)?;
     let d = PyDict::new(py);
     d.set_item("width", g.width)?;
     d.set_item("depth", g.depth)?;
@@ -125,11 +125,11 @@ pub(super) fn geometry_dict<'py>(
     d.set_item("jar_radius", (g.jar_radius[0], g.jar_radius[1]))?;
     d.set_item("target_min_depth", g.target_min_depth)?;
     d.set_item("wall_gap", g.wall_gap)?;
-    d.set_item("grid_shape", g.grid_shape)?;
+    d.set_item("grid_shape", g.grid.shape())?;
     d.set_item("cell", g.cell)?;
     d.set_item("mean_scale", g.mean_scale)?;
     d.set_item("std_scale", g.std_scale)?;
-    let (h, w) = g.grid_shape;
+    let (h, w) = g.grid.shape();
     let (xs, ys) = g.cell_centres();
     d.set_item("xs", PyArray1::from_vec(py, xs).reshape([h, w])?)?;
     d.set_item("ys", PyArray1::from_vec(py, ys).reshape([h, w])?)?;

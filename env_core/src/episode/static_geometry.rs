@@ -9,6 +9,8 @@
 //! O(G) for the cell centres.
 
 use super::config::EpisodeConfig;
+use super::error::EpisodeError;
+use crate::gpis::GridSpec;
 use crate::scene::hand::{joint_offset, reach};
 
 /// The static geometry of an episode's configuration (see the module docs). Metres and
@@ -53,8 +55,8 @@ pub struct StaticGeometry {
     pub target_min_depth: f64,
     /// Minimum gap between a jar's bounding circle and a side or back wall.
     pub wall_gap: f64,
-    /// (H, W) of the map grid.
-    pub grid_shape: (usize, usize),
+    /// The map grid: the cupboard's interior in (H, W) cells, the map's own [`GridSpec`].
+    pub grid: GridSpec,
     /// Side of a (square) map cell: `depth / H`.
     pub cell: f64,
     /// |mean| that saturates the map's mean channel.
@@ -64,13 +66,14 @@ pub struct StaticGeometry {
 }
 
 impl StaticGeometry {
-    /// The geometry of `config` (valid).
-    pub fn of(config: &EpisodeConfig) -> Self {
+    /// The geometry of `config`; fails only where the map's grid does (a config that does
+    /// not validate).
+    pub fn of(config: &EpisodeConfig) -> Result<Self, EpisodeError> {
         let scene = &config.scene;
         let (hand, layout) = (&scene.hand, &scene.layout);
         let [round, square] = [layout.round_diameter, layout.square_side];
         let [px, py, _] = scene.camera.position;
-        Self {
+        Ok(Self {
             width: scene.cupboard.width,
             depth: scene.cupboard.depth,
             camera: [px, py],
@@ -92,45 +95,43 @@ impl StaticGeometry {
             ],
             target_min_depth: layout.target_min_depth,
             wall_gap: layout.wall_gap,
-            grid_shape: config.map.grid_shape,
+            grid: GridSpec::new(config.map_bounds(), config.map.grid_shape)?,
             cell: scene.cupboard.depth / config.map.grid_shape.0 as f64,
             mean_scale: config.map.mean_scale,
             std_scale: config.map.std_scale,
-        }
+        })
     }
 
-    /// The cells' centres `(xs, ys)`, each H·W row-major (row i along y, column j along x):
-    /// `x_j = -0.5 width + (j + 0.5) width / W`, `y_i = (i + 0.5) depth / H`. Cost O(G).
+    /// The cells' centres `(xs, ys)`, each H·W row-major (row i along y, column j along x),
+    /// as the map grid has them ([`GridSpec::cell_centre`]). Cost O(G).
     pub fn cell_centres(&self) -> (Vec<f64>, Vec<f64>) {
-        let (h, w) = self.grid_shape;
-        let column = |j: usize| -0.5 * self.width + (j as f64 + 0.5) * self.width / w as f64;
-        let row = |i: usize| (i as f64 + 0.5) * self.depth / h as f64;
-        let xs = (0..h).flat_map(|_| (0..w).map(column)).collect();
-        let ys = (0..h)
-            .flat_map(|i| std::iter::repeat_n(row(i), w))
-            .collect();
-        (xs, ys)
+        self.grid.cell_centres_iter().map(|[x, y]| (x, y)).unzip()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gpis::GridSpec;
 
     #[test]
     fn cell_centres_are_the_map_grids_and_reach_the_hands() {
         let config = EpisodeConfig::default();
-        let g = StaticGeometry::of(&config);
-        let grid = GridSpec::new(config.map_bounds(), config.map.grid_shape).unwrap();
+        let g = StaticGeometry::of(&config).unwrap();
         let (xs, ys) = g.cell_centres();
-        let (h, w) = g.grid_shape;
+        let (h, w) = g.grid.shape();
+        assert_eq!((h, w), config.map.grid_shape);
         assert_eq!((xs.len(), ys.len()), (h * w, h * w));
-        for i in 0..h {
-            for j in 0..w {
-                let [x, y] = grid.cell_centre(i, j);
-                assert!((xs[i * w + j] - x).abs() < 1e-12 && (ys[i * w + j] - y).abs() < 1e-12);
-            }
+        // Row i along y, column j along x, from the interior's corner (-width/2, 0).
+        for (i, j) in [
+            (0, 0),
+            (0, w - 1),
+            (h - 1, 0),
+            (h - 1, w - 1),
+            (h / 2, w / 3),
+        ] {
+            let x = -0.5 * g.width + (j as f64 + 0.5) * g.width / w as f64;
+            let y = (i as f64 + 0.5) * g.depth / h as f64;
+            assert_eq!((xs[i * w + j], ys[i * w + j]), (x, y));
         }
         assert_eq!(g.reach, g.joint_offset + g.finger_length);
         assert!((g.cell - g.width / w as f64).abs() < 1e-15);

@@ -228,19 +228,19 @@ class CupboardSearchEnv(gym.Env, EzPickle):
         return self._batch.last_motions(0)
 
     def decode_map(self, image: np.ndarray) -> dict[str, np.ndarray]:
-        """The map image ``observation["map"]`` (``(2, H, W)`` uint8) decoded by the core, the
-        inverse of its encoding up to the quantisation step: ``{"mean", "std"}`` for
-        ``map="gpis"`` (the GPIS signed distance, negative inside a jar, and its standard
-        deviation, m; saturated at ``mean_scale`` and ``std_scale``), ``{"occupied"}`` for
-        ``map="occupancy"`` (the probability of occupancy), each ``(H, W)`` float64.
-        ``TypeError`` for anything but a uint8 array, ``ValueError`` for another shape or with
-        ``map="none"`` (no image)."""
+        """The map image ``observation["map"]`` (``(C, H, W)`` uint8, the map mode's channels)
+        decoded by the core, the inverse of its encoding up to the quantisation step:
+        ``{"mean", "std"}`` for ``map="gpis"`` (the GPIS signed distance, negative inside a
+        jar, and its standard deviation, m; saturated at ``mean_scale`` and ``std_scale``),
+        ``{"occupied"}`` for ``map="occupancy"`` (the probability of occupancy), each
+        ``(H, W)`` float64. ``TypeError`` for anything but a uint8 array, ``ValueError`` for
+        another shape or with ``map="none"`` (no image)."""
         return self._batch.decode_map(image)
 
     def decode_proprio(self, proprio: np.ndarray) -> dict[str, float | bool | int]:
-        """The proprio vector ``observation["proprio"]`` (``(11,)`` float32) decoded by the core
-        into physical quantities by name: ``x``, ``y`` (wrist, m), ``yaw`` (rad),
-        ``deflection`` (the finger's, rad), ``in_contact`` (bool), ``contact_dx``,
+        """The proprio vector ``observation["proprio"]`` (float32, the core's proprio table)
+        decoded by the core into physical quantities by name: ``x``, ``y`` (wrist, m),
+        ``yaw`` (rad), ``deflection`` (the finger's, rad), ``in_contact`` (bool), ``contact_dx``,
         ``contact_dy`` (the first reading's offset from the wrist, m, clipped at the finger
         length), ``normal_x``, ``normal_y``, ``time_left`` (the share of ``max_steps`` left) and
         ``steps`` (int). ``TypeError`` for anything but a float32 array, ``ValueError`` for
