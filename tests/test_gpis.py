@@ -280,6 +280,10 @@ def test_defaults_and_checks_come_from_the_core() -> None:
     assert gpis.psi == pytest.approx(defaults["psi_factor"] * diagonal, rel=1e-12)
     assert (gpis.prior_mean, gpis.max_rows) == (defaults["prior_mean"], defaults["max_rows"])
     with pytest.raises(ValueError, match="max_rows must fit in 64 bits"):
-        _core.GpisCore(BOUNDS, (8, 8), max_rows=2**64)
+        _core.GpisCore(BOUNDS, (8, 8), None, 0.0, max_rows=2**64)
     with pytest.raises(TypeError, match="max_rows must be an integer, got bool: True"):
-        _core.GpisCore(BOUNDS, (8, 8), max_rows=True)
+        _core.GpisCore(BOUNDS, (8, 8), None, 0.0, max_rows=True)
+    # None is not a default for a given argument, as for Gpis before the core checked them.
+    for name in ("prior_mean", "max_rows"):
+        with pytest.raises(TypeError, match=f"^{name} must be "):
+            Gpis(bounds=BOUNDS, shape=(8, 8), **{name: None})

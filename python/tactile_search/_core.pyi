@@ -316,15 +316,16 @@ def gpis_defaults() -> dict[str, float | int]: ...
 
 class GpisCore:
     """The Rust GPIS behind ``tactile_search.Gpis``; prefer that class. The constructor checks
-    its arguments; ``None`` takes the default of ``gpis_defaults()``."""
+    its arguments; ``psi=None`` takes ``psi_factor`` of ``gpis_defaults()`` times the bounds'
+    diagonal."""
 
     def __init__(
         self,
         bounds: Any,
         shape: Any,
-        psi: float | None = None,
-        prior_mean: float | None = None,
-        max_rows: int | None = None,
+        psi: float | None,
+        prior_mean: float,
+        max_rows: int,
     ) -> None: ...
     def add_values(
         self, points: NDArray[np.float64], values: NDArray[np.float64] | None, noise_std: float

@@ -208,25 +208,24 @@ impl PyGpis {
 
 #[pymethods]
 impl PyGpis {
-    /// A map over `bounds` ((x0, x1), (y0, y1)) on an `shape` (H, W) grid; `psi`,
-    /// `prior_mean` and `max_rows` default to `gpis_defaults()` (psi: `psi_factor` times
-    /// the bounds' diagonal). Every argument is checked, in order.
+    /// A map over `bounds` ((x0, x1), (y0, y1)) on an `shape` (H, W) grid. `psi` None is
+    /// `psi_factor` (of `gpis_defaults()`) times the bounds' diagonal; `prior_mean` and
+    /// `max_rows` must be given (`Gpis` passes the defaults of `gpis_defaults()`): None for
+    /// either is a TypeError naming it, as for `Gpis`. Every argument is checked, in order.
     #[new]
-    #[pyo3(signature = (bounds, shape, psi = None, prior_mean = None, max_rows = None))]
+    #[pyo3(signature = (bounds, shape, psi, prior_mean, max_rows))]
     fn new(
         bounds: &Bound<'_, PyAny>,
         shape: &Bound<'_, PyAny>,
         psi: Option<&Bound<'_, PyAny>>,
-        prior_mean: Option<&Bound<'_, PyAny>>,
-        max_rows: Option<&Bound<'_, PyAny>>,
+        prior_mean: &Bound<'_, PyAny>,
+        max_rows: &Bound<'_, PyAny>,
     ) -> PyResult<Self> {
         let bounds = self::bounds(bounds)?;
         let shape = grid_shape(shape)?;
         let psi = given(psi).map(|v| real("psi", v)).transpose()?;
-        let prior_mean =
-            given(prior_mean).map_or(Ok(GPIS_DEFAULTS.prior_mean), |v| real("prior_mean", v))?;
-        let max_rows =
-            given(max_rows).map_or(Ok(GPIS_DEFAULTS.max_rows), |v| count("max_rows", v))?;
+        let prior_mean = real("prior_mean", prior_mean)?;
+        let max_rows = count("max_rows", max_rows)?;
         let inner = Gpis::new(GpisConfig {
             bounds,
             shape,
