@@ -65,22 +65,29 @@ def features(extractor: MapExtractor, obs: dict[str, np.ndarray]) -> torch.Tenso
 
 
 @pytest.mark.parametrize(
-    ("cls", "grid_shape", "expected"),
+    ("cls", "grid_shape", "expected", "extractor_kwargs"),
     [
-        (ImpalaMapExtractor, None, (32, 5, 10)),  # default grid 40x80
-        (ImpalaMapExtractor, (36, 72), (32, 5, 9)),  # 36 -> 18 -> 9 -> 5, 72 -> 36 -> 18 -> 9
-        (SpatialSoftmaxMapExtractor, None, (32, 20, 40)),
-        (SpatialSoftmaxMapExtractor, (36, 72), (32, 18, 36)),
+        (ImpalaMapExtractor, None, (32, 5, 10), {}),  # default grid 40x80
+        # space-to-depth 2 then two stages: 40x80 -> 20x40 -> 10x20 -> 5x10, the same grid
+        (ImpalaMapExtractor, None, (16, 5, 10), {"space_to_depth": 2, "channels": (16, 16)}),
+        # padded to 38x74 -> 19x37 -> 10x19 -> 5x10
+        (ImpalaMapExtractor, (37, 74), (16, 5, 10), {"space_to_depth": 2, "channels": (16, 16)}),
+        (ImpalaMapExtractor, (36, 72), (32, 5, 9), {}),  # 36 -> 18 -> 9 -> 5, 72 -> 36 -> 18 -> 9
+        (SpatialSoftmaxMapExtractor, None, (32, 20, 40), {}),
+        (SpatialSoftmaxMapExtractor, (36, 72), (32, 18, 36), {}),
     ],
 )
 def test_encoder_keeps_the_maps_spatial_grid(
-    cls: type[MapExtractor], grid_shape: tuple[int, int] | None, expected: tuple[int, int, int]
+    cls: type[MapExtractor],
+    grid_shape: tuple[int, int] | None,
+    expected: tuple[int, int, int],
+    extractor_kwargs: dict,
 ) -> None:
     kwargs = {"map": "gpis"} if grid_shape is None else {"map": "gpis", "grid_shape": grid_shape}
     space = observation_space(**kwargs)
     if grid_shape is not None:
         assert space["map"].shape == (2, *grid_shape)
-    extractor = cls(space)
+    extractor = cls(space, **extractor_kwargs)
     assert map_feature_shape(extractor) == expected
     out = features(extractor, real_observations(**kwargs))
     assert out.shape == (6, extractor.features_dim)
@@ -125,6 +132,34 @@ def test_a_moved_map_pixel_changes_the_map_features_only(cls: type[MapExtractor]
     map_dim = extractor.features_dim - space["proprio"].shape[0]
     assert not torch.allclose(before[:map_dim], after[:map_dim])
     torch.testing.assert_close(before[map_dim:], after[map_dim:])
+
+
+def test_space_to_depth_rearranges_every_cell_and_loses_none() -> None:
+    from agents.sb3.encoders import SpaceToDepth
+
+    x = torch.arange(2 * 5 * 7, dtype=torch.float32).reshape(1, 2, 5, 7) + 1.0
+    out = SpaceToDepth(2)(x)
+    assert out.shape == (1, 8, 3, 4)
+    # every cell once, the padding zeros added: a permutation of the padded map
+    padded = torch.nn.functional.pad(x, (0, 1, 0, 1))
+    assert torch.equal(torch.sort(out.flatten()).values, torch.sort(padded.flatten()).values)
+    # channel c * 4 + 2 * dy + dx of cell (i, j) is the map's cell (2 i + dy, 2 j + dx)
+    assert out[0, 1 * 4 + 2 * 1 + 0, 2, 3] == padded[0, 1, 5, 6]
+    assert out[0, 0 * 4 + 2 * 0 + 1, 1, 2] == x[0, 0, 2, 5]
+    assert torch.equal(torch.nn.PixelShuffle(2)(out), padded)
+
+
+def test_space_to_depth_sees_a_single_moved_cell() -> None:
+    torch.manual_seed(0)
+    space = observation_space(map="gpis")
+    extractor = ImpalaMapExtractor(space, space_to_depth=2, channels=(16, 16), res_blocks=1)
+    obs = {key: np.zeros((1, *s.shape), s.dtype) for key, s in space.spaces.items()}
+    moved = {key: value.copy() for key, value in obs.items()}
+    obs["map"][0, 1, 10, 20] = 255
+    moved["map"][0, 1, 10, 21] = 255  # the same 2x2 block, another cell of it
+    map_dim = extractor.features_dim - space["proprio"].shape[0]
+    before, after = features(extractor, obs)[0], features(extractor, moved)[0]
+    assert not torch.allclose(before[:map_dim], after[:map_dim])
 
 
 @pytest.mark.parametrize("cls", ENCODERS)
@@ -241,6 +276,8 @@ def test_a_recipe_naming_the_encoders_old_module_resolves_to_its_new_place() -> 
         (ImpalaMapExtractor, {"res_blocks": -1}, ValueError, "res_blocks"),
         (ImpalaMapExtractor, {"proprio_features": -2}, ValueError, "proprio_features"),
         (ImpalaMapExtractor, {"channels_last": "yes"}, TypeError, "channels_last"),
+        (ImpalaMapExtractor, {"space_to_depth": 0}, ValueError, "space_to_depth"),
+        (ImpalaMapExtractor, {"space_to_depth": 2.0}, TypeError, "space_to_depth"),
         (SpatialSoftmaxMapExtractor, {"strides": (1, 2)}, ValueError, "strides"),
         (SpatialSoftmaxMapExtractor, {"strides": (1, 0, 1)}, ValueError, r"strides\[1\]"),
         (SpatialSoftmaxMapExtractor, {"learn_temperature": 1}, TypeError, "learn_temperature"),
