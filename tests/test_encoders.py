@@ -138,7 +138,12 @@ def test_space_to_depth_rearranges_every_cell_and_loses_none() -> None:
     from agents.sb3.encoders import SpaceToDepth
 
     x = torch.arange(2 * 5 * 7, dtype=torch.float32).reshape(1, 2, 5, 7) + 1.0
-    out = SpaceToDepth(2)(x)
+    out = SpaceToDepth(2, 2)(x)
+    torch.testing.assert_close(
+        out, torch.nn.PixelUnshuffle(2)(torch.nn.functional.pad(x, (0, 1, 0, 1))), rtol=0, atol=0
+    )
+    channels_last = SpaceToDepth(2, 2)(x.contiguous(memory_format=torch.channels_last))
+    assert torch.equal(channels_last, out)
     assert out.shape == (1, 8, 3, 4)
     # every cell once, the padding zeros added: a permutation of the padded map
     padded = torch.nn.functional.pad(x, (0, 1, 0, 1))

@@ -194,20 +194,37 @@ class ImpalaStage(nn.Sequential):
 
 
 class SpaceToDepth(nn.Module):
-    """Each ``factor`` x ``factor`` block of cells as ``factor²`` channels of one cell
-    (``PixelUnshuffle``), after zero-padding the bottom and right to a multiple of
-    ``factor``: ``(B, C, H, W) -> (B, C factor², ceil(H / factor), ceil(W / factor))``."""
+    """Each ``factor`` x ``factor`` block of cells as ``factor²`` channels of one cell, after
+    zero-padding the bottom and right to a multiple of ``factor``: ``(B, C, H, W) -> (B, C
+    factor², ceil(H / factor), ceil(W / factor))``, channel ``c factor² + dy factor + dx``
+    holding cell ``(factor i + dy, factor j + dx)`` of channel ``c`` (``PixelUnshuffle``'s
+    order).
 
-    def __init__(self, factor: int) -> None:
+    It runs as a fixed convolution (kernel and stride ``factor``, one weight 1 per output
+    channel, the rest 0, a buffer, not trained), which copies every value exactly and keeps
+    a channels-last input channels-last: on CPU that measured about twice as fast as
+    ``PixelUnshuffle`` of a channels-last map and several times faster than a reshape and
+    permute."""
+
+    def __init__(self, channels: int, factor: int) -> None:
         super().__init__()
         self.factor = factor
-        self.unshuffle = nn.PixelUnshuffle(factor)
+        weight = th.zeros(channels * factor * factor, channels, factor, factor)
+        for c in range(channels):
+            for dy in range(factor):
+                for dx in range(factor):
+                    weight[(c * factor + dy) * factor + dx, c, dy, dx] = 1.0
+        self.register_buffer("weight", weight)
 
     def forward(self, x: th.Tensor) -> th.Tensor:
-        pad_h, pad_w = -x.shape[-2] % self.factor, -x.shape[-1] % self.factor
+        f = self.factor
+        pad_h, pad_w = -x.shape[-2] % f, -x.shape[-1] % f
         if pad_h or pad_w:
             x = nn.functional.pad(x, (0, pad_w, 0, pad_h))
-        return self.unshuffle(x)
+        weight = self.weight
+        if x.is_contiguous(memory_format=th.channels_last):
+            weight = weight.contiguous(memory_format=th.channels_last)
+        return nn.functional.conv2d(x, weight.to(x.dtype), stride=f)
 
 
 class ImpalaMapExtractor(MapExtractor):
@@ -261,7 +278,7 @@ class ImpalaMapExtractor(MapExtractor):
         stages: list[nn.Module] = []
         in_channels = shape[0]
         if self.space_to_depth > 1:
-            stages.append(SpaceToDepth(self.space_to_depth))
+            stages.append(SpaceToDepth(in_channels, self.space_to_depth))
             in_channels *= self.space_to_depth**2
         for out_channels in self.channels:
             stages.append(ImpalaStage(in_channels, out_channels, self.res_blocks))

@@ -1,0 +1,352 @@
+"""Where a PPO training run's time goes, per map encoder and setting: the update, the
+rollout's inference and the environment, per trained probe, side by side in one process.
+
+Each variant is a training recipe (``agents/hyperparams/ppo.yml`` or an ablation's file)
+with its ``policy_kwargs`` and optional overrides, trained by SB3's own ``learn`` on the
+Rust batch (``agents.sb3.training_env.make_training_env``), exactly as ``agents.train``
+trains it. After one excluded warm-up rollout and update per model, every variant in turn
+learns ``--timesteps`` probes per round (the order rotating each round, so the shared
+machine's load swings hit them alike), while a callback and a ``VecEnv`` wrapper split the
+round's wall-clock into
+
+- ``env``: the environment's ``step`` (the batch of probes, resets included);
+- ``infer``: the rest of the rollout (the policy's forward pass for each step's actions,
+  the rollout buffer, SB3's bookkeeping);
+- ``update``: the PPO update after each rollout (``n_epochs`` passes of minibatches).
+
+It prints each round, then per variant the medians: trained probes/s, its ratio to the
+``recipe`` variant's in the same rounds, each part in ms per trained probe, the update's
+cost per sample pass (µs: the update's time over ``n_epochs`` x probes), parameters and the
+map grid the encoder keeps. With gymnasium's MuJoCo envs installed (the ``bench`` extra),
+each round also runs ``Pusher-v5`` with random actions for the same span and prints the
+trained probes/s over Pusher-v5's steps/s (the budgets of ``docs/DESIGN.md`` §5 are such
+ratios). ``--bf16`` adds, per variant, one minibatch update with and without bfloat16
+autocast, side by side (it pays only on CPUs with AMX; the line says whether this one has
+it).
+
+Variants are named ``NAME`` or ``NAME:key=value,key=value`` (recipe keys, values in YAML),
+e.g. ``space_to_depth:n_epochs=5``. Run from the repo root::
+
+    python -m benchmarks.learner_speed                      # recipe vs space_to_depth
+    python -m benchmarks.learner_speed --variants recipe space_to_depth nature_cnn \\
+        spatial_softmax mlp_no_map --timesteps 2048 --rounds 3 --torch-threads 1 --bf16
+
+Like ``agents/train.py``, it sets ``OMP_WAIT_POLICY=PASSIVE`` (unless set) before torch
+loads. ``--torch-threads 1 --env-threads 1`` is how the ``full`` budget trains each seed.
+"""
+
+from __future__ import annotations
+
+import os
+
+# Before torch loads (stable_baselines3 imports it): see agents/train.py.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+import argparse
+import importlib.util
+import statistics
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from agents.sb3.encoders import MapExtractor, map_feature_shape
+from agents.sb3.recipes import algorithm_class, algorithm_kwargs, load_hyperparams
+from agents.sb3.training_env import make_training_env
+from tactile_search._validation import as_count
+
+ABLATIONS = Path("docs/results/ablations_speed")
+#: name -> (the map mode, the recipe file (None: agents/hyperparams/ppo.yml), the
+#: features extractor put in its policy_kwargs: "keep" the recipe's, None for SB3's default
+#: CombinedExtractor, or a dotted class path with default kwargs).
+VARIANTS: dict[str, tuple[str, Path | None, str | None]] = {
+    "recipe": ("gpis", None, "keep"),
+    "space_to_depth": ("gpis", ABLATIONS / "space_to_depth.yml", "keep"),
+    "nature_cnn": ("gpis", None, None),
+    "spatial_softmax": ("gpis", None, "agents.sb3.encoders.SpatialSoftmaxMapExtractor"),
+    "mlp_no_map": ("none", None, "keep"),
+}
+REFERENCE_VARIANT = "recipe"
+PUSHER_ID = "Pusher-v5"
+
+
+def positive_int(text: str) -> int:
+    """argparse type: an int >= 1 (the project's one count check, ``as_count``)."""
+    try:
+        return as_count("the value", int(text))
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(f"expected a positive int, got {text!r}: {err}") from err
+
+
+def variant_spec(text: str) -> tuple[str, dict[str, Any]]:
+    """argparse type: ``NAME`` or ``NAME:key=value,...`` -> (name, recipe overrides)."""
+    name, _, overrides = text.partition(":")
+    if name not in VARIANTS:
+        raise argparse.ArgumentTypeError(f"variant must be one of {sorted(VARIANTS)}, got {name!r}")
+    parsed: dict[str, Any] = {}
+    for item in filter(None, overrides.split(",")):
+        key, eq, value = item.partition("=")
+        if not eq or not key:
+            raise argparse.ArgumentTypeError(f"expected key=value in {text!r}, got {item!r}")
+        parsed[key] = yaml.safe_load(value)
+    return text, parsed
+
+
+@dataclass
+class Measured:
+    """One variant's model and what each round measured (seconds, probes)."""
+
+    label: str
+    model: Any
+    recipe: dict[str, Any]
+    probes: list[int] = field(default_factory=list)
+    total: list[float] = field(default_factory=list)
+    env: list[float] = field(default_factory=list)
+    rollout: list[float] = field(default_factory=list)
+    pusher_rate: list[float] = field(default_factory=list)
+
+    def per_probe_ms(self, part: str) -> float:
+        """The median over rounds of ``part`` (env, infer, update, total) in ms per probe."""
+        values = []
+        for probes, total, env, rollout in zip(
+            self.probes, self.total, self.env, self.rollout, strict=True
+        ):
+            seconds = {
+                "env": env,
+                "infer": rollout - env,
+                "update": total - rollout,
+                "total": total,
+            }[part]
+            values.append(1e3 * seconds / probes)
+        return statistics.median(values)
+
+    def rates(self) -> list[float]:
+        return [p / t for p, t in zip(self.probes, self.total, strict=True)]
+
+
+def variant_recipe(name: str, overrides: dict[str, Any]) -> dict[str, Any]:
+    """The recipe a variant trains with: its file's, its extractor, then the overrides."""
+    map_mode, path, extractor = VARIANTS[name]
+    recipe = load_hyperparams("ppo", map_mode, path=path)
+    if extractor != "keep":
+        policy_kwargs = dict(recipe.get("policy_kwargs") or {})
+        policy_kwargs.pop("features_extractor_kwargs", None)
+        policy_kwargs.pop("features_extractor_class", None)
+        if extractor is not None:
+            policy_kwargs["features_extractor_class"] = extractor
+        recipe["policy_kwargs"] = policy_kwargs
+    recipe.update(overrides)
+    return recipe
+
+
+def build_model(recipe: dict[str, Any], env_threads: int | None) -> Any:
+    """The recipe's PPO on its own training env (seed 0), the env wrapped to time its steps."""
+    from stable_baselines3.common.vec_env import VecEnvWrapper
+
+    class TimedVecEnv(VecEnvWrapper):
+        """Adds the wall-clock spent in the wrapped env's ``step_wait`` to ``seconds``."""
+
+        seconds = 0.0
+
+        def reset(self) -> Any:
+            return self.venv.reset()
+
+        def step_wait(self) -> Any:
+            start = time.perf_counter()
+            result = self.venv.step_wait()
+            self.seconds += time.perf_counter() - start
+            return result
+
+    env = make_training_env(
+        recipe["env_kwargs"], n_envs=recipe["n_envs"], seed=0, threads=env_threads
+    )
+    return algorithm_class("ppo")(
+        recipe["policy"], TimedVecEnv(env), seed=0, device="cpu", **algorithm_kwargs(recipe)
+    )
+
+
+def rollout_timer() -> Any:
+    """An SB3 callback adding each rollout's wall-clock (collection, not the update) to
+    ``seconds``."""
+    from stable_baselines3.common.callbacks import BaseCallback
+
+    class RolloutTimer(BaseCallback):
+        seconds = 0.0
+
+        def _on_rollout_start(self) -> None:
+            self.started = time.perf_counter()
+
+        def _on_rollout_end(self) -> None:
+            self.seconds += time.perf_counter() - self.started
+
+        def _on_step(self) -> bool:
+            return True
+
+    return RolloutTimer()
+
+
+def learn_round(measured: Measured, timesteps: int) -> None:
+    """``timesteps`` more probes of ``measured.model``'s training, split into its parts."""
+    model = measured.model
+    env = model.get_env()
+    env_before, done = env.seconds, model.num_timesteps
+    timer = rollout_timer()
+    start = time.perf_counter()
+    model.learn(total_timesteps=timesteps, reset_num_timesteps=False, callback=timer)
+    measured.total.append(time.perf_counter() - start)
+    measured.probes.append(model.num_timesteps - done)
+    measured.env.append(env.seconds - env_before)
+    measured.rollout.append(timer.seconds)
+
+
+def pusher_rate(seconds: float) -> float | None:
+    """Pusher-v5's random-action steps/s over about ``seconds`` (None without MuJoCo)."""
+    if importlib.util.find_spec("mujoco") is None:
+        return None
+    import gymnasium as gym
+
+    from benchmarks.peer_envs import Subject, run_steps
+
+    subject = Subject(PUSHER_ID, gym.make(PUSHER_ID), False)
+    subject.env.action_space.seed(0)
+    steps, elapsed_ns = 0, 0
+    while elapsed_ns < seconds * 1e9:
+        ns, _ = run_steps(subject, 1000)
+        steps, elapsed_ns = steps + 1000, elapsed_ns + ns
+    subject.env.close()
+    return steps / (elapsed_ns * 1e-9)
+
+
+def describe(model: Any) -> dict[str, Any]:
+    """Parameter counts and the kept map grid of ``model``'s policy."""
+    extractor = model.policy.features_extractor
+    grid = map_feature_shape(extractor) if isinstance(extractor, MapExtractor) else None
+    return {
+        "params": sum(p.numel() for p in model.policy.parameters()),
+        "grid": "x".join(map(str, grid)) if grid else "-",
+    }
+
+
+def has_amx() -> bool:
+    """Whether this CPU has AMX tiles for bfloat16 (``amx_bf16`` in /proc/cpuinfo)."""
+    try:
+        return "amx_bf16" in Path("/proc/cpuinfo").read_text()
+    except OSError:
+        return False
+
+
+def bf16_update_ratio(model: Any, rounds: int = 5) -> float:
+    """The median time of one minibatch update (the recipe's batch, forward, backward, Adam
+    step) under bfloat16 autocast over the same in float32, alternating."""
+    import torch
+
+    policy = model.policy
+    batch = next(model.rollout_buffer.get(model.batch_size))
+    actions = batch.actions  # MultiDiscrete: as PPO.train passes them
+
+    def update(autocast: bool) -> float:
+        start = time.perf_counter()
+        with torch.autocast("cpu", dtype=torch.bfloat16, enabled=autocast):
+            values, log_prob, entropy = policy.evaluate_actions(batch.observations, actions)
+            loss = -log_prob.float().mean() + values.float().pow(2).mean()
+            loss = loss - 0.01 * entropy.float().mean()
+        policy.optimizer.zero_grad()
+        loss.backward()
+        policy.optimizer.step()
+        return time.perf_counter() - start
+
+    update(False), update(True)  # warm-up
+    times = {False: [], True: []}
+    for _ in range(rounds):
+        for autocast in (False, True):
+            times[autocast].append(update(autocast))
+    return statistics.median(times[True]) / statistics.median(times[False])
+
+
+def print_summary(measured: list[Measured], pusher: list[float]) -> None:
+    reference = next((m for m in measured if m.label == REFERENCE_VARIANT), measured[0])
+    print(
+        f"\n{'variant':>28} {'probes/s':>8} {'vs ' + reference.label:>10} {'env':>6} "
+        f"{'infer':>6} {'update':>7} {'us/sample':>9} {'params':>8} {'grid':>8}"
+        f"{'  vs Pusher-v5':>14}"
+    )
+    print(f"{'':>28} {'':>8} {'':>10} {'(ms per trained probe)':>21}")
+    for m in measured:
+        ratios = [a / b for a, b in zip(m.rates(), reference.rates(), strict=True)]
+        info = describe(m.model)
+        per_sample = 1e3 * m.per_probe_ms("update") / m.recipe["n_epochs"]
+        vs_pusher = (
+            f"{statistics.median(r / p for r, p in zip(m.rates(), pusher, strict=True)):14.4f}"
+            if pusher
+            else f"{'-':>14}"
+        )
+        print(
+            f"{m.label:>28} {statistics.median(m.rates()):8.1f} {statistics.median(ratios):10.2f} "
+            f"{m.per_probe_ms('env'):6.2f} {m.per_probe_ms('infer'):6.2f} "
+            f"{m.per_probe_ms('update'):7.2f} {per_sample:9.0f} {info['params']:8,d} "
+            f"{info['grid']:>8}{vs_pusher}"
+        )
+    if pusher:
+        print(f"{PUSHER_ID}: median {statistics.median(pusher):,.0f} steps/s (random actions)")
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument(
+        "--variants",
+        nargs="+",
+        type=variant_spec,
+        default=[variant_spec("recipe"), variant_spec("space_to_depth")],
+        help=f"NAME or NAME:key=value,... with NAME in {sorted(VARIANTS)}",
+    )
+    parser.add_argument("--timesteps", type=positive_int, default=2048, help="probes per round")
+    parser.add_argument("--rounds", type=positive_int, default=3, help="alternating rounds")
+    parser.add_argument("--torch-threads", type=positive_int, default=1)
+    parser.add_argument("--env-threads", type=positive_int, default=1)
+    parser.add_argument("--bf16", action="store_true", help="also time bfloat16 autocast")
+    args = parser.parse_args(argv)
+    import torch
+
+    torch.set_num_threads(args.torch_threads)
+    measured = []
+    for label, overrides in args.variants:
+        recipe = variant_recipe(label.partition(":")[0], overrides)
+        measured.append(Measured(label, build_model(recipe, args.env_threads), recipe))
+    print(
+        f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY')}, torch threads "
+        f"{args.torch_threads}, env threads {args.env_threads}; {args.timesteps} probes per "
+        f"variant per round, {args.rounds} rounds; torch {torch.__version__}, CPU capability "
+        f"{torch.backends.cpu.get_cpu_capability()}, AMX {'yes' if has_amx() else 'no'}",
+        flush=True,
+    )
+    for m in measured:  # warm-up: the first rollout and update, excluded
+        rollout = m.recipe["n_steps"] * m.recipe["n_envs"]
+        m.model.learn(total_timesteps=rollout)
+    pusher: list[float] = []
+    for round_index in range(args.rounds):
+        shift = round_index % len(measured)
+        for m in measured[shift:] + measured[:shift]:
+            learn_round(m, args.timesteps)
+            print(
+                f"  round {round_index} {m.label:>28}: {m.rates()[-1]:6.1f} probes/s "
+                f"(env {1e3 * m.env[-1] / m.probes[-1]:.2f}, update "
+                f"{1e3 * (m.total[-1] - m.rollout[-1]) / m.probes[-1]:.2f} ms per probe)",
+                flush=True,
+            )
+        rate = pusher_rate(statistics.median(m.total[-1] for m in measured))
+        if rate is not None:
+            pusher.append(rate)
+            print(f"  round {round_index} {PUSHER_ID:>28}: {rate:,.0f} steps/s", flush=True)
+    print_summary(measured, pusher)
+    if args.bf16:
+        print("\nbfloat16 autocast, one minibatch update, time over float32's (median):")
+        for m in measured:
+            print(f"{m.label:>28}: {bf16_update_ratio(m.model):.2f}")
+    for m in measured:
+        m.model.get_env().close()
+
+
+if __name__ == "__main__":
+    main()
