@@ -54,6 +54,7 @@ paper: build ## regenerate docs/paper/ figures and docs/PAPER.md's table (experi
 bench: build-dev $(VENV)/.extra-bench $(VENV)/.extra-scale ## criterion benchmarks and the Python benchmark scripts (prints figures)
 	cargo bench -p env_core --bench gpis_append
 	cargo bench -p env_core --bench scene
+	cargo bench -p env_core --bench probe
 	$(PY) -m benchmarks.gpis_append --out results/gpis_append.png
 	cargo run --release --quiet -p env_core --example physics_tradeoffs
 	$(PY) -m benchmarks.prior_rows

@@ -230,6 +230,15 @@ settings! {
         /// contact or solver work and cannot drift, and the first touch (finger, arm or
         /// another jar) wakes it. False simulates every jar from the first step.
         jars_start_asleep: bool = true => "jars_start_asleep" in Range::FINITE,
+        /// Hand commands that provably touch nothing are made without stepping the physics:
+        /// when no jar moves, the finger rests on its joint, no substep is blocked and, at
+        /// every pose where a stepped command would look for contacts, the hand is farther
+        /// than rapier's prediction distance (2 cm) from every jar (and the finger from every
+        /// wall). Same wrist pose, steps and (empty) readings; the finger is carried
+        /// undeflected instead of swinging from the wrist's starts and stops. Off by default
+        /// until its gain pays for that (`cargo bench --bench probe`); false steps every
+        /// command.
+        fast_free_motion: bool = false => "fast_free_motion" in Range::FINITE,
     }
     sections {}
     check_across = |_| Ok(());

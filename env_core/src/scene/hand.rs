@@ -219,7 +219,7 @@ impl Hand {
     /// (exact f64, a lower bound of the distance); only a part whose box comes within the
     /// margin of a wall gets the exact box distance. Cost: 15 box-box gaps, plus up to 15
     /// exact distances near walls.
-    fn blocker(&self, pose: HandPose, finger_angle: f64) -> Option<Blocker> {
+    pub(crate) fn blocker(&self, pose: HandPose, finger_angle: f64) -> Option<Blocker> {
         let [[x0, x1], [y0, y1]] = self.config.workspace;
         if !(x0..=x1).contains(&pose.x) || !(y0..=y1).contains(&pose.y) {
             return Some(Blocker::Workspace);
@@ -251,16 +251,7 @@ impl Hand {
                 &self.finger_shape,
             ),
         ];
-        // The parts' poses for the exact distance, composed in f32 as the bodies are.
-        let wrist = Self::body_pose(pose, self.z);
-        let exact_poses = [
-            wrist,
-            wrist * Pose::translation(0.0, self.arm_offset as Real, 0.0),
-            wrist
-                * Pose::translation(0.0, self.joint_y() as Real, 0.0)
-                * Pose::from_rotation(Rotation::from_rotation_z(finger_angle as Real))
-                * Pose::translation(0.0, (0.5 * c.finger_length) as Real, 0.0),
-        ];
+        let exact_poses = self.part_poses(pose, finger_angle);
         let margin = c.wall_margin;
         for (wall, wall_pose, wall_shape) in &self.walls {
             for ((offset, yaw, half, shape), part_pose) in parts.iter().zip(&exact_poses) {
@@ -276,6 +267,117 @@ impl Hand {
             }
         }
         None
+    }
+
+    /// The world poses of the wrist, the arm and the finger (held at deflection
+    /// `finger_angle`) at wrist `pose`, composed in f32 as the bodies are. Cost: O(1).
+    fn part_poses(&self, pose: HandPose, finger_angle: f64) -> [Pose; 3] {
+        let wrist = Self::body_pose(pose, self.z);
+        [
+            wrist,
+            wrist * Pose::translation(0.0, self.arm_offset as Real, 0.0),
+            wrist
+                * Pose::translation(0.0, self.joint_y() as Real, 0.0)
+                * Pose::from_rotation(Rotation::from_rotation_z(finger_angle as Real))
+                * Pose::translation(0.0, (0.5 * self.config.finger_length) as Real, 0.0),
+        ]
+    }
+
+    /// The hand's parts at wrist `pose` with the finger at `finger_angle`: each part's world
+    /// pose and shape, whether it is the finger, and the radius of its footprint's bounding
+    /// circle in the slice plane (m). Cost: O(1).
+    pub(crate) fn parts(
+        &self,
+        pose: HandPose,
+        finger_angle: f64,
+    ) -> [(Pose, &Cuboid, bool, f64); 3] {
+        let [wrist, arm, finger] = self.part_poses(pose, finger_angle);
+        let radius = |shape: &Cuboid| {
+            let h = shape.half_extents;
+            f64::from(h.x).hypot(f64::from(h.y))
+        };
+        [
+            (wrist, &self.wrist_shape, false, radius(&self.wrist_shape)),
+            (arm, &self.arm_shape, false, radius(&self.arm_shape)),
+            (finger, &self.finger_shape, true, radius(&self.finger_shape)),
+        ]
+    }
+
+    /// Whether the finger at `pose` (held at `finger_angle`) is at least `margin` from every
+    /// cupboard wall (exact shape distances, after the bounding-box test of
+    /// [`Self::blocker`]). Cost: 5 box-box gaps, plus an exact distance per near wall.
+    pub(crate) fn finger_clear_of_walls(
+        &self,
+        finger_pose: &Pose,
+        finger_yaw: f64,
+        margin: f64,
+    ) -> bool {
+        let c = &self.config;
+        let t = finger_pose.translation;
+        let centre = [f64::from(t.x), f64::from(t.y), f64::from(t.z)];
+        let half = [
+            c.finger_half_thickness,
+            0.5 * c.finger_length,
+            c.finger_half_height,
+        ];
+        self.walls.iter().all(|(wall, wall_pose, wall_shape)| {
+            box_gap(wall, centre, finger_yaw, half) >= margin + QUICK_CLEAR_SLACK
+                || query::distance(wall_pose, wall_shape, finger_pose, &self.finger_shape)
+                    .is_ok_and(|d| f64::from(d.distance) >= margin)
+        })
+    }
+
+    /// Whether the finger is at rest relative to the wrist: deflected by at most
+    /// `max_angle` (rad) and turning relative to the wrist by at most `max_rate` (rad/s).
+    /// Always true for a rigid finger. Cost: O(1).
+    pub(crate) fn finger_at_rest(
+        &self,
+        world: &PhysicsWorld,
+        max_angle: f64,
+        max_rate: f64,
+    ) -> bool {
+        let Some(finger) = self.finger_body.and_then(|h| world.bodies.get(h)) else {
+            return true;
+        };
+        let Some(wrist) = world.bodies.get(self.wrist_body) else {
+            return true;
+        };
+        let rate = f64::from(finger.angvel().z) - f64::from(wrist.angvel().z);
+        self.finger_angle(world).abs() <= max_angle && rate.abs() <= max_rate
+    }
+
+    /// Carries the hand to `target` without physics: the wrist and the finger (keeping its
+    /// pose relative to the wrist) are placed there, moving rigidly at the velocity of the
+    /// motion from the current pose over `duration` seconds, as the bodies of a motion that
+    /// touched nothing end it. For motions [`super::free_motion`] found clear only. Cost: O(1).
+    pub(crate) fn carry(&mut self, world: &mut PhysicsWorld, target: HandPose, duration: f64) {
+        let start = self.pose;
+        let Some(old_wrist) = world.bodies.get(self.wrist_body).map(|b| *b.position()) else {
+            return;
+        };
+        let new_wrist = Self::body_pose(target, self.z);
+        let linvel = Vector::new(
+            ((target.x - start.x) / duration) as Real,
+            ((target.y - start.y) / duration) as Real,
+            0.0,
+        );
+        let angvel = Vector::new(0.0, 0.0, ((target.yaw - start.yaw) / duration) as Real);
+        let origin = new_wrist.translation;
+        // A rigid motion's velocity at a body's centre of mass.
+        let rigid = |body: &mut RigidBody, pose: Pose| {
+            body.set_position(pose, true);
+            let at_com = linvel + angvel.cross(body.center_of_mass() - origin);
+            body.set_linvel(at_com, true);
+            body.set_angvel(angvel, true);
+        };
+        if let Some(finger) = self.finger_body.and_then(|h| world.bodies.get_mut(h)) {
+            let relative = old_wrist.inverse() * *finger.position();
+            rigid(finger, new_wrist * relative);
+        }
+        if let Some(wrist) = world.bodies.get_mut(self.wrist_body) {
+            rigid(wrist, new_wrist);
+        }
+        self.pose = target;
     }
 
     /// Moves the wrist towards `target` for the next physics step, stopping at the last clear

@@ -25,6 +25,7 @@ pub mod depth_camera;
 pub mod disturbance;
 pub mod error;
 pub mod footprint;
+mod free_motion;
 mod groups;
 pub mod hand;
 pub mod jar;

@@ -14,6 +14,8 @@ use super::cupboard::Cupboard;
 use super::depth_camera::DepthCamera;
 use super::disturbance::Disturbance;
 use super::error::SceneError;
+use super::footprint::JarShape;
+use super::free_motion::{self, JarObstacle};
 use super::hand::{Blocker, Hand, HandPose};
 use super::jar::JarSpec;
 use super::layout::Layout;
@@ -34,6 +36,17 @@ fn slice_spec(config: &SceneConfig) -> SliceSpec {
         band: config.camera.slice_band,
         max_points: config.camera.max_slice_points,
         noise_std: config.camera.noise_std,
+    }
+}
+
+/// The wrist pose substep `k` of `substeps` moves to, from `start` towards `goal` (the start
+/// itself for k = 0).
+fn substep_target(start: HandPose, goal: HandPose, k: usize, substeps: usize) -> HandPose {
+    let s = k as f64 / substeps as f64;
+    HandPose {
+        x: start.x + s * (goal.x - start.x),
+        y: start.y + s * (goal.y - start.y),
+        yaw: start.yaw + s * (goal.yaw - start.yaw),
     }
 }
 
@@ -76,12 +89,6 @@ pub struct JarState {
     pub asleep: bool,
 }
 
-/// Handles of a jar in the world.
-#[derive(Debug, Clone, Copy)]
-struct JarHandles {
-    body: RigidBodyHandle,
-}
-
 /// One episode's physical scene.
 pub struct Scene {
     config: SceneConfig,
@@ -90,7 +97,7 @@ pub struct Scene {
     layout: Layout,
     camera: DepthCamera,
     world: PhysicsWorld,
-    jars: Vec<JarHandles>,
+    jars: Vec<JarObstacle>,
     rest_poses: Vec<Pose>,
     hand: Hand,
     first_slice: Vec<[f64; 2]>,
@@ -101,6 +108,7 @@ pub struct Scene {
     contacts_true: Vec<Contact>,
     contacts: Vec<Contact>,
     steps: u64,
+    free_motions: u64,
 }
 
 impl Scene {
@@ -146,13 +154,21 @@ impl Scene {
         // Recycled contacts let a moving finger tunnel through a jar on stale points.
         params.contact_recycling = false;
         cupboard.insert(&mut world);
-        let jars: Vec<JarHandles> = layout
+        let jars: Vec<JarObstacle> = layout
             .jars
             .iter()
             .enumerate()
             .map(|(i, jar)| {
-                let (body, _) = jar.insert(&mut world, i, config.layout.jar_friction);
-                JarHandles { body }
+                let (body, collider) = jar.insert(&mut world, i, config.layout.jar_friction);
+                let radius = match jar.shape {
+                    JarShape::Round { radius } => radius,
+                    JarShape::Square { half_side } => half_side * std::f64::consts::SQRT_2,
+                };
+                JarObstacle {
+                    body,
+                    collider,
+                    radius,
+                }
             })
             .collect();
         let hand = Hand::insert(&mut world, &config.hand, config.slice_height, &cupboard)?;
@@ -212,6 +228,7 @@ impl Scene {
             contacts_true: Vec::new(),
             contacts: Vec::new(),
             steps: 0,
+            free_motions: 0,
         };
         scene.sense_touch();
         Ok(scene)
@@ -251,14 +268,33 @@ impl Scene {
         };
         let substeps = self.config.physics.substeps;
         let mut blocked = None;
+        if self.config.physics.fast_free_motion && self.free_motion(start, goal) {
+            let duration = substeps as f64 * self.config.physics.dt;
+            self.hand.carry(
+                &mut self.world,
+                substep_target(start, goal, substeps, substeps),
+                duration,
+            );
+            self.steps += 1;
+            self.free_motions += 1;
+            // No reading (and no noise drawn for none), as the stepped command would give.
+            self.contacts_true.clear();
+            self.contacts = with_noise(&[], &self.config.touch, &mut self.touch_rng);
+            let end = self.hand.pose();
+            return Ok(StepReport {
+                commanded,
+                clipped: commanded != command,
+                moved: HandCommand {
+                    dx: end.x - start.x,
+                    dy: end.y - start.y,
+                    dyaw: end.yaw - start.yaw,
+                },
+                blocked: None,
+            });
+        }
         for k in 1..=substeps {
             if blocked.is_none() {
-                let s = k as f64 / substeps as f64;
-                let target = HandPose {
-                    x: start.x + s * (goal.x - start.x),
-                    y: start.y + s * (goal.y - start.y),
-                    yaw: start.yaw + s * (goal.yaw - start.yaw),
-                };
+                let target = substep_target(start, goal, k, substeps);
                 blocked = self.hand.advance(&mut self.world, target);
             } else {
                 // Hold the reached pose (a kinematic body keeps its last target otherwise).
@@ -279,6 +315,34 @@ impl Scene {
                 dyaw: end.yaw - start.yaw,
             },
             blocked,
+        })
+    }
+
+    /// Whether the command from `start` to `goal` may take the fast path of free motion
+    /// (see [`free_motion`]): the first physics step is behind (the jars' sleep is set up),
+    /// nothing moves, no substep target is blocked, and the hand is clear of every jar and
+    /// wall at each pose where the stepped command would detect contacts (the start and the
+    /// substep targets before the last). Cost: up to `substeps` wall checks and clearance
+    /// tests.
+    fn free_motion(&self, start: HandPose, goal: HandPose) -> bool {
+        if self.sleep_timers_pending
+            || !free_motion::jars_at_rest(&self.world, &self.jars)
+            || !self.hand.finger_at_rest(
+                &self.world,
+                free_motion::REST_ANGLE,
+                free_motion::REST_FINGER_RATE,
+            )
+        {
+            return false;
+        }
+        let angle = self.hand.finger_angle(&self.world);
+        let substeps = self.config.physics.substeps;
+        (1..=substeps).all(|k| {
+            let target = substep_target(start, goal, k, substeps);
+            self.hand.blocker(target, angle).is_none()
+        }) && (0..substeps).all(|k| {
+            let pose = substep_target(start, goal, k, substeps);
+            free_motion::clear_at(&self.world, &self.hand, &self.jars, pose, angle)
         })
     }
 
@@ -370,6 +434,12 @@ impl Scene {
     /// Scene steps taken since reset.
     pub fn steps(&self) -> u64 {
         self.steps
+    }
+
+    /// Scene steps since reset made by the fast path of free motion (`fast_free_motion`),
+    /// without stepping the physics.
+    pub fn free_motions(&self) -> u64 {
+        self.free_motions
     }
 
     /// The commanded wrist pose.
