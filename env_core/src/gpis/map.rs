@@ -23,8 +23,9 @@
 //! An `add` first grows L and β chunk by chunk (the rejecting factorisation decides which
 //! rows stay), then updates the grid once for every row it kept: one product with the old
 //! cache and one triangular solve over all the new columns, rather than a product and a
-//! solve per chunk. For the episode's depth prior (an empty map, about 190 rows on 3200
-//! cells) that grid work is nearly all of the cost: G·k²/2 multiply-adds in the solve.
+//! solve per chunk, in tiles of cells. For the episode's depth prior (an empty map, about 130
+//! rows on 3200 cells) that grid work is nearly all of the cost: G·k²/2 multiply-adds in
+//! the solve.
 
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::{
@@ -50,7 +51,8 @@ const CHUNK_ROWS: usize = 48;
 /// Grid cells updated together by an `add`: their slice of the new cache columns (256 × k
 /// f64s, under 0.5 MB for k = 200) stays in the core's cache from the kernel columns through
 /// the product, the solve and the fold, instead of the whole G × k panel being streamed
-/// through memory once per step (cells are independent, so the tiling changes no result).
+/// through memory once per step (cells are independent: the tiling changes results only by
+/// rounding).
 const CELL_TILE: usize = 256;
 
 /// Smallest row capacity allocated once the first row arrives.
