@@ -3,7 +3,7 @@
 
 mod gpis_fixtures;
 
-use env_core::gpis::Gpis;
+use env_core::gpis::{Gpis, Observation};
 use rand::Rng;
 
 fn assert_matches_full_recompute(map: &Gpis, context: &str) {
@@ -127,4 +127,59 @@ fn a_clone_grows_like_its_original_and_independently_of_it() {
     assert_eq!(original.n_rows(), copy.n_rows());
     assert_eq!(original.mean_grid(), copy.mean_grid());
     assert_eq!(original.variance_grid(), copy.variance_grid());
+}
+
+/// A depth prior like the episode's (`docs/DESIGN.md` §3, §9.1): 96 noisy points on the
+/// visible fronts of five jars, each with a free-space row 1 cm towards the camera, on the
+/// environment's 40 × 80 grid, in one `add` (192 rows: four factorisation chunks, one grid
+/// update), then touches one at a time with skipping. The grid stays within 1e-9 of a full
+/// recompute throughout.
+#[test]
+fn an_episode_sized_prior_in_one_add_matches_full_recompute() {
+    let mut rng = gpis_fixtures::rng(17);
+    let camera = [0.0, -0.25];
+    let mut observations = Vec::new();
+    let mut front = Vec::new();
+    for (jar, &x) in [-0.2, -0.09, 0.0, 0.1, 0.21].iter().enumerate() {
+        let centre = [x, 0.08 + 0.04 * jar as f64];
+        for k in 0..19 + usize::from(jar == 0) {
+            let angle = -2.6 + 2.2 * k as f64 / 19.0;
+            let noise = [
+                rng.random_range(-0.002..0.002),
+                rng.random_range(-0.002..0.002),
+            ];
+            front.push([
+                centre[0] + 0.025 * f64::cos(angle) + noise[0],
+                centre[1] + 0.025 * f64::sin(angle) + noise[1],
+            ]);
+        }
+    }
+    assert_eq!(front.len(), 96);
+    let noise_var = 0.003f64.powi(2);
+    for (i, &p) in front.iter().enumerate() {
+        observations.push(Observation::value(i, p, 0.0, noise_var).unwrap());
+    }
+    for (i, &p) in front.iter().enumerate() {
+        let towards = [camera[0] - p[0], camera[1] - p[1]];
+        let length = towards[0].hypot(towards[1]);
+        let q = [
+            p[0] + 0.01 * towards[0] / length,
+            p[1] + 0.01 * towards[1] / length,
+        ];
+        observations.push(Observation::value(i, q, 0.01, noise_var).unwrap());
+    }
+    let mut map = gpis_fixtures::shelf_map((40, 80), 0.01, 1500);
+    let report = map.add(&observations, None).unwrap();
+    assert_eq!(report.added_rows, 192);
+    assert_matches_full_recompute(&map, "prior");
+    for i in 0..30 {
+        let contact = gpis_fixtures::random_observation(&mut rng, i);
+        map.add(&[contact], Some(1e-5)).unwrap();
+    }
+    assert!(
+        map.n_rows() > 192,
+        "touches should add rows: {}",
+        map.n_rows()
+    );
+    assert_matches_full_recompute(&map, "prior and touches");
 }

@@ -251,7 +251,9 @@ class EpisodeSettings(SceneSettings, total=False):
     """GPIS noise standard deviation of a depth point, m. Default 0.003. Range [0, inf)."""
     max_prior_depth_points: int
     """The depth slice is thinned (evenly) to at most this many points before it enters the GPIS
-    (the prior's cost grows as rows squared times cells). Default 96. Range [1, inf).
+    (the prior's cost grows as rows squared times cells; 64 keeps the prior's IoU within the
+    interval of 96's on validation layouts, benchmarks/prior_rows.py). Default 64. Range [1,
+    inf).
     """
     free_space_offset: float | None
     """Free-space evidence: a value observation f = +offset this far in front of each depth point

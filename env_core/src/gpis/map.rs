@@ -19,13 +19,20 @@
 //!
 //! Cost O(k·n·G + k·n²) per append instead of the O(n³ + n²·G) of a full recompute. Storage
 //! grows by doubling up to `max_rows`; memory is about 8·(cap² + G·cap) bytes.
+//!
+//! An `add` first grows L and β chunk by chunk (the rejecting factorisation decides which
+//! rows stay), then updates the grid once for every row it kept: one product with the old
+//! cache and one triangular solve over all the new columns, rather than a product and a
+//! solve per chunk, in tiles of cells. For the episode's depth prior (an empty map, about 130
+//! rows on 3200 cells) that grid work is nearly all of the cost: G·k²/2 multiply-adds in
+//! the solve.
 
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
 use faer::reborrow::{Reborrow, ReborrowMut};
-use faer::{Accum, Mat, MatMut, Par};
+use faer::{Accum, Mat, MatMut, MatRef, Par};
 
 use super::error::GpisError;
 use super::full_recompute::{full_posterior, posterior_from_solved, GridPosterior};
@@ -37,9 +44,16 @@ use super::rejecting_cholesky::{factor_rejecting, GroupOutcome, RejectingFactor,
 /// Default ψ as a multiple of the bounds' diagonal (`docs/DESIGN.md` §3).
 pub const DEFAULT_PSI_FACTOR: f64 = 1.5;
 
-/// Rows appended per blocked update. Larger chunks turn more of the work into matrix
-/// products; the rejecting factorisation of a chunk costs O(chunk³), so keep it modest.
+/// Rows factored per step of an `add`. The grid is updated once per `add`, whatever the
+/// chunks; the rejecting factorisation of a chunk costs O(chunk³), so keep it modest.
 const CHUNK_ROWS: usize = 48;
+
+/// Grid cells updated together by an `add`: their slice of the new cache columns (256 × k
+/// f64s, under 0.5 MB for k = 200) stays in the core's cache from the kernel columns through
+/// the product, the solve and the fold, instead of the whole G × k panel being streamed
+/// through memory once per step (cells are independent: the tiling changes results only by
+/// rounding).
+const CELL_TILE: usize = 256;
 
 /// Smallest row capacity allocated once the first row arrives.
 const MIN_CAPACITY: usize = 64;
@@ -138,15 +152,18 @@ pub struct Gpis {
     capacity: usize,
     chol: Mat<f64>,
     beta: Vec<f64>,
+    /// Vᵀ in its first `rows.len()` columns; always `capacity` columns wide, so that an
+    /// `add` writes its new columns in place instead of growing (and zero-filling) them.
     grid_cache_t: Mat<f64>,
     mean: Vec<f64>,
     variance: Vec<f64>,
 }
 
 impl Clone for Gpis {
-    /// A copy with the same spare capacity: faer's `Mat::clone` allocates exactly n × n and
-    /// G × n, and without re-reserving every later append to the copy would reallocate and
-    /// copy the factor and the grid cache (measured 5× slower appends at n = 1000).
+    /// A copy with the same spare capacity: faer's `Mat::clone` allocates exactly the n × n
+    /// in use of the factor (the grid cache is `capacity` columns wide already), and without
+    /// re-reserving every later append to the copy would reallocate and copy the factor
+    /// (measured 5× slower appends at n = 1000, when the cache grew the same way).
     fn clone(&self) -> Self {
         let mut copy = Self {
             grid: self.grid.clone(),
@@ -250,7 +267,6 @@ impl Gpis {
             self.reserve_rows(kept.min(self.max_rows)).ok();
         }
         self.chol.truncate(0, 0);
-        self.grid_cache_t.truncate(n_cells, 0);
         self.mean.clear();
         self.mean.resize(n_cells, self.prior_mean);
         self.variance.clear();
@@ -421,6 +437,7 @@ impl Gpis {
             });
         }
         self.reserve_rows(self.rows.len() + requested)?;
+        let held = self.rows.len();
         let mut report = AddReport::default();
         let mut start = 0;
         while start < observations.len() {
@@ -432,9 +449,10 @@ impl Gpis {
                 chunk_rows += observations[end].n_rows();
                 end += 1;
             }
-            self.append_chunk(&observations[start..end], skip_below_variance, &mut report);
+            self.factor_chunk(&observations[start..end], skip_below_variance, &mut report);
             start = end;
         }
+        self.update_grid(held);
         Ok(report)
     }
 
@@ -461,12 +479,16 @@ impl Gpis {
         self.grid_cache_t
             .try_reserve(self.cells.len(), capacity)
             .map_err(out_of_memory)?;
+        // Reserved above: this fills the new columns without reallocating.
+        self.grid_cache_t
+            .resize_with(self.cells.len(), capacity, |_, _| 0.0);
         self.capacity = capacity;
         Ok(())
     }
 
-    /// The blocked incremental update of the module docs, for one chunk of observations.
-    fn append_chunk(
+    /// Grows L and β by one chunk of observations (the first half of the module docs'
+    /// update: L₂₁, L₂₂ and β₂); the grid follows in [`Self::update_grid`].
+    fn factor_chunk(
         &mut self,
         observations: &[Observation],
         skip_below_variance: Option<f64>,
@@ -530,64 +552,23 @@ impl Gpis {
             return;
         }
         report.added_rows += kept;
-        let w_kept = Mat::from_fn(n, kept, |i, c| w[(i, accepted[c])]);
 
         // β₂ = L₂₂⁻¹ (y₂ − m₂ − L₂₁ β).
         let mut beta_new = Mat::from_fn(kept, 1, |c, _| {
             let row = &new_rows[accepted[c]];
-            let explained: f64 = (0..n).map(|i| w_kept[(i, c)] * self.beta[i]).sum();
+            let explained: f64 = (0..n).map(|i| w[(i, accepted[c])] * self.beta[i]).sum();
             new_observed[accepted[c]] - row.prior_mean(self.prior_mean) - explained
         });
         solve_lower_triangular_in_place(factor.as_ref(), beta_new.as_mut(), Par::Seq);
 
-        // V₂ᵀ = (K*₂ − Vᵀ L₂₁ᵀ) L₂₂⁻ᵀ, computed as G × kept in place, in the cache's new
-        // columns.
-        let n_cells = self.cells.len();
+        // Grow L by [L₂₁ L₂₂], then record the rows.
         // `add` reserved storage for every row it could add: no allocation here.
         debug_assert!(n + kept <= self.capacity);
-        self.grid_cache_t.resize_with(n_cells, n + kept, |_, _| 0.0);
-        let (old_cache, mut cache_new) = self.grid_cache_t.as_mut().split_at_col_mut(n);
-        for (c, &a) in accepted.iter().enumerate() {
-            let row = &new_rows[a];
-            kernel.value_column(
-                &self.cells,
-                row.point,
-                row.kind,
-                column_mut(&mut cache_new, c),
-            );
-        }
-        matmul(
-            cache_new.rb_mut(),
-            Accum::Add,
-            old_cache.rb(),
-            w_kept.as_ref(),
-            -1.0,
-            Par::Seq,
-        );
-        solve_lower_triangular_in_place(
-            factor.as_ref(),
-            cache_new.rb_mut().transpose_mut(),
-            Par::Seq,
-        );
-        for c in 0..kept {
-            let b = beta_new[(c, 0)];
-            let column = column_mut(&mut cache_new, c);
-            for ((mean, variance), &v) in self.mean.iter_mut().zip(&mut self.variance).zip(&*column)
-            {
-                *mean += v * b;
-                *variance -= v * v;
-            }
-        }
-        for v in &mut self.variance {
-            *v = v.max(0.0);
-        }
-
-        // Grow L by [L₂₁ L₂₂] (the cache holds V₂ already), then record the rows.
         self.chol.resize_with(n + kept, n + kept, |i, j| {
             if i < n {
                 0.0
             } else if j < n {
-                w_kept[(j, i - n)]
+                w[(j, accepted[i - n])]
             } else if j <= i {
                 factor[(i - n, j - n)]
             } else {
@@ -599,6 +580,56 @@ impl Gpis {
             self.observed.push(new_observed[a]);
             self.noise_var.push(new_noise[a]);
             self.beta.push(beta_new[(c, 0)]);
+        }
+    }
+
+    /// Brings the grid up to date with the rows from `held` on (the second half of the
+    /// module docs' update, for every row one `add` kept):
+    /// V₂ᵀ = (K*₂ − Vᵀ L₂₁ᵀ) L₂₂⁻ᵀ, computed as G × k in place in the cache's new columns,
+    /// then mean += V₂ᵀ β₂ and variance −= colsum(V₂ ∘ V₂), clamped at 0.
+    fn update_grid(&mut self, held: usize) {
+        let n = self.rows.len();
+        let k = n - held;
+        if k == 0 {
+            return;
+        }
+        let kernel = self.kernel;
+        let n_cells = self.cells.len();
+        let l21 = self.chol.as_ref().submatrix(held, 0, k, held);
+        let l22 = self.chol.as_ref().submatrix(held, held, k, k);
+        // `add` reserved storage for every row it could add.
+        let (old_cache, rest) = self.grid_cache_t.as_mut().split_at_col_mut(held);
+        let mut cache_new = rest.subcols_mut(0, k);
+        let mut first = 0;
+        while first < n_cells {
+            let cells = CELL_TILE.min(n_cells - first);
+            let mut tile = cache_new.rb_mut().subrows_mut(first, cells);
+            for (c, row) in self.rows[held..].iter().enumerate() {
+                kernel.value_column(
+                    &self.cells[first..first + cells],
+                    row.point,
+                    row.kind,
+                    column_mut(&mut tile, c),
+                );
+            }
+            if held > 0 {
+                matmul(
+                    tile.rb_mut(),
+                    Accum::Add,
+                    old_cache.rb().subrows(first, cells),
+                    l21.transpose(),
+                    -1.0,
+                    Par::Seq,
+                );
+            }
+            solve_lower_triangular_in_place(l22, tile.rb_mut().transpose_mut(), Par::Seq);
+            fold_into_grids(
+                tile.rb(),
+                &self.beta[held..],
+                &mut self.mean[first..first + cells],
+                &mut self.variance[first..first + cells],
+            );
+            first += cells;
         }
     }
 
@@ -667,6 +698,41 @@ impl Gpis {
             &self.noise_var,
             &self.cells,
         )
+    }
+}
+
+/// mean += X β and variance −= rowsum(X ∘ X), clamped at 0, for the cache's new columns X
+/// (G × k): four columns per pass, so the grids are read and written k/4 times, not k.
+fn fold_into_grids(columns: MatRef<'_, f64>, beta: &[f64], mean: &mut [f64], variance: &mut [f64]) {
+    let cells = mean.len();
+    let column = |c: usize| {
+        &columns
+            .col(c)
+            .try_as_col_major()
+            .expect("the grid cache is column-major")
+            .as_slice()[..cells]
+    };
+    let variance = &mut variance[..cells];
+    let mut c = 0;
+    while c + 4 <= columns.ncols() {
+        let (x0, x1, x2, x3) = (column(c), column(c + 1), column(c + 2), column(c + 3));
+        let (b0, b1, b2, b3) = (beta[c], beta[c + 1], beta[c + 2], beta[c + 3]);
+        for i in 0..cells {
+            let (v0, v1, v2, v3) = (x0[i], x1[i], x2[i], x3[i]);
+            mean[i] += (v0 * b0 + v1 * b1) + (v2 * b2 + v3 * b3);
+            variance[i] -= (v0 * v0 + v1 * v1) + (v2 * v2 + v3 * v3);
+        }
+        c += 4;
+    }
+    for c in c..columns.ncols() {
+        let (x, b) = (column(c), beta[c]);
+        for i in 0..cells {
+            mean[i] += x[i] * b;
+            variance[i] -= x[i] * x[i];
+        }
+    }
+    for v in variance {
+        *v = v.max(0.0);
     }
 }
 
