@@ -197,6 +197,15 @@ class SceneSettings(TypedDict, total=False):
     solver work and cannot drift, and the first touch (finger, arm or another jar) wakes it.
     False simulates every jar from the first step. Default True.
     """
+    fast_free_motion: bool
+    """Hand commands that provably touch nothing are made without stepping the physics: when no
+    jar moves, the finger rests on its joint, no substep is blocked and, at every pose where a
+    stepped command would look for contacts, the hand is farther than rapier's prediction
+    distance (2 cm) from every jar (and the finger from every wall). Same wrist pose, steps
+    and (empty) readings; the finger is carried undeflected instead of swinging from the
+    wrist's starts and stops. Off by default until its gain pays for that (`cargo bench
+    --bench probe`); false steps every command. Default False.
+    """
 
 class EpisodeSettings(SceneSettings, total=False):
     """Every setting of ``EpisodeBatch`` by key (``EpisodeBatch.settings()``)."""
