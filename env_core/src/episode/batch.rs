@@ -1,18 +1,24 @@
 //! A batch of episodes stepped in parallel: the core of the vector environments.
 //!
 //! One call to [`EpisodeBatch::run`] gives each episode a [`Command`] (step with an action,
-//! reset to a seed, or hold) and carries them out on the batch's own rayon pool (kept
-//! alive: spawning threads every call would cost as much as a step), one task per episode so
-//! that a slow reset does not hold up a whole chunk of steps. Each task writes its episode's
-//! observation straight into that episode's rows of the caller's buffers (in the bindings:
-//! numpy arrays allocated once per batch), so nothing is staged or copied and results do
-//! not depend on the thread count. [`EpisodeBatch::write_result`] then writes rewards,
-//! flags and infos as columns (O(info fields) per episode, on the calling thread).
+//! reset to a seed, or hold) and carries them out on the calling thread and the batch's own
+//! helper threads (a rayon pool of `threads - 1`, kept alive: spawning threads every call
+//! would cost as much as a step). The calling thread works too, from the first task: a
+//! hand-off to a sleeping pool and back costs two thread wake-ups per call (tens to hundreds
+//! of microseconds on a virtual machine), as much as the whole parallel part of a wrist-mode
+//! step of 16 episodes (about 0.7 ms of work). The tasks, one per episode that steps or
+//! resets, are taken one at a time from a shared queue, resets first: a reset costs as much
+//! as about 150 wrist steps, so one started last would leave the other threads idle while
+//! it runs alone. Each task writes its episode's observation straight into that episode's
+//! rows of the caller's buffers (in the bindings: numpy arrays allocated once per batch), so
+//! nothing is staged or copied and results do not depend on the thread count or on which
+//! thread ran what. [`EpisodeBatch::write_result`] then writes rewards, flags and infos as
+//! columns (O(info fields) per episode, on the calling thread).
 
 use std::num::NonZeroUsize;
+use std::sync::{Mutex, PoisonError};
 use std::thread;
 
-use rayon::prelude::*;
 use rayon::{ThreadPool, ThreadPoolBuilder};
 
 use super::config::EpisodeConfig;
@@ -36,7 +42,8 @@ pub enum Command {
 pub struct EpisodeBatch {
     episodes: Vec<Episode>,
     threads: usize,
-    pool: ThreadPool,
+    /// `threads - 1` helper threads (none for one thread): the calling thread is the other.
+    helpers: Option<ThreadPool>,
 }
 
 impl EpisodeBatch {
@@ -52,14 +59,16 @@ impl EpisodeBatch {
             .collect::<Result<Vec<_>, _>>()?;
         let cores = thread::available_parallelism().map_or(1, NonZeroUsize::get);
         let threads = threads.unwrap_or(cores).clamp(1, episodes.len().max(1));
-        let pool = ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("the OS can start the batch's worker threads");
+        let helpers = (threads > 1).then(|| {
+            ThreadPoolBuilder::new()
+                .num_threads(threads - 1)
+                .build()
+                .expect("the OS can start the batch's helper threads")
+        });
         Ok(Self {
             episodes,
             threads,
-            pool,
+            helpers,
         })
     }
 
@@ -78,7 +87,7 @@ impl EpisodeBatch {
         &self.episodes
     }
 
-    /// Worker threads.
+    /// Threads that carry out a run: the calling thread and `threads - 1` helpers.
     pub fn threads(&self) -> usize {
         self.threads
     }
@@ -155,7 +164,9 @@ impl EpisodeBatch {
     /// mode, indices within their counts) before any episode moves, so a bad action
     /// changes nothing. Otherwise the first failing episode (a step
     /// after termination) is reported as [`EpisodeError::InEpisode`]; the others have run.
-    /// Cost: the slowest worker's share, tasks balanced by work stealing.
+    /// Cost: the work divided over the threads, each taking the next task when it is free
+    /// (resets first), plus one task's length at most; one task or one thread runs on the
+    /// calling thread alone.
     pub fn run(
         &mut self,
         commands: &[Command],
@@ -185,30 +196,52 @@ impl EpisodeBatch {
         } else {
             maps.chunks_mut(map_len).collect()
         };
-        let outcomes: Vec<Result<(), EpisodeError>> = if self.threads == 1 || n == 1 {
-            // One worker: run on the calling thread (a hand-off costs more than a step).
-            self.episodes
-                .iter_mut()
-                .zip(commands)
-                .zip(map_rows)
-                .zip(proprio.chunks_mut(PROPRIO_LEN))
-                .map(carry_out)
-                .collect()
-        } else {
-            let episodes = &mut self.episodes;
-            self.pool.install(|| {
-                episodes
-                    .par_iter_mut()
-                    .zip(commands.par_iter())
-                    .zip(map_rows.into_par_iter())
-                    .zip(proprio.par_chunks_mut(PROPRIO_LEN))
-                    .map(carry_out)
-                    .collect()
+        let mut tasks: Vec<Task<'_>> = self
+            .episodes
+            .iter_mut()
+            .zip(commands)
+            .zip(map_rows)
+            .zip(proprio.chunks_mut(PROPRIO_LEN))
+            .enumerate()
+            .filter(|(_, (((_, command), _), _))| **command != Command::Hold)
+            .map(|(index, (((episode, &command), map), proprio))| Task {
+                index,
+                episode,
+                command,
+                map,
+                proprio,
             })
+            .collect();
+        // Resets first (a stable sort: otherwise in episode order).
+        tasks.sort_by_key(|task| !matches!(task.command, Command::Reset(_)));
+        let mut failures = match &self.helpers {
+            Some(pool) if tasks.len() > 1 => {
+                let helpers = pool.current_num_threads().min(tasks.len() - 1);
+                let queue = Mutex::new(tasks.into_iter());
+                let failures = Mutex::new(Vec::new());
+                pool.in_place_scope(|scope| {
+                    for _ in 0..helpers {
+                        scope.spawn(|_| drain(&queue, &failures));
+                    }
+                    drain(&queue, &failures);
+                });
+                failures
+                    .into_inner()
+                    .unwrap_or_else(PoisonError::into_inner)
+            }
+            // One task or one thread: on the calling thread alone.
+            _ => tasks
+                .into_iter()
+                .filter_map(|task| carry_out(task).err())
+                .collect(),
         };
-        match outcomes.into_iter().enumerate().find(|(_, o)| o.is_err()) {
-            Some((index, Err(error))) => Err(error.in_episode(index)),
-            _ => Ok(()),
+        match failures.iter().map(|(index, _)| *index).min() {
+            Some(first) => {
+                let at = failures.iter().position(|(index, _)| *index == first);
+                let (index, error) = failures.swap_remove(at.expect("the first failure"));
+                Err(error.in_episode(index))
+            }
+            None => Ok(()),
         }
     }
 
@@ -233,21 +266,158 @@ impl EpisodeBatch {
     }
 }
 
-/// One episode's share of a run: the episode, its command, its map rows, its proprio row.
-type Task<'a> = (
-    ((&'a mut Episode, &'a Command), &'a mut [u8]),
-    &'a mut [f32],
-);
+/// One episode's share of a run: its index, the episode, its command, its map rows, its
+/// proprio row.
+struct Task<'a> {
+    index: usize,
+    episode: &'a mut Episode,
+    command: Command,
+    map: &'a mut [u8],
+    proprio: &'a mut [f32],
+}
 
-/// Carries out one episode's command and writes its observation rows.
-fn carry_out((((episode, &command), map), proprio): Task<'_>) -> Result<(), EpisodeError> {
-    match command {
-        Command::Step(action) => {
-            episode.advance(action)?;
+/// Takes tasks from `queue` one at a time until it is empty, recording failures with
+/// their episode's index. The lock is held only to take a task, never while one runs.
+fn drain<'a, I>(queue: &Mutex<I>, failures: &Mutex<Vec<(usize, EpisodeError)>>)
+where
+    I: Iterator<Item = Task<'a>>,
+{
+    loop {
+        let next = queue.lock().unwrap_or_else(PoisonError::into_inner).next();
+        let Some(task) = next else { return };
+        if let Err(failure) = carry_out(task) {
+            failures
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .push(failure);
         }
-        Command::Reset(seed) => episode.reset(seed)?,
-        Command::Hold => return Ok(()),
     }
-    episode.write_map(map)?;
-    episode.write_proprio(proprio)
+}
+
+/// Carries out one episode's command and writes its observation rows; a failure comes
+/// back with the episode's index.
+fn carry_out(task: Task<'_>) -> Result<(), (usize, EpisodeError)> {
+    let Task {
+        index,
+        episode,
+        command,
+        map,
+        proprio,
+    } = task;
+    let done = match command {
+        Command::Step(action) => episode.advance(action).map(|_| ()),
+        Command::Reset(seed) => episode.reset(seed),
+        Command::Hold => return Ok(()),
+    };
+    done.and_then(|()| episode.write_map(map))
+        .and_then(|()| episode.write_proprio(proprio))
+        .map_err(|error| (index, error))
+}
+
+#[cfg(test)]
+mod tests {
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    use super::*;
+    use crate::episode::{oracle_action, ActionMode, MapMode, StepInfo};
+
+    /// Every observation and info after each run of mixed commands (resets, holds, steps in
+    /// random order) on a batch of `threads` threads.
+    fn trace(action_mode: ActionMode, threads: usize) -> Vec<(Vec<u8>, Vec<f32>, Vec<StepInfo>)> {
+        let mut config = EpisodeConfig::default();
+        config.action_mode = action_mode;
+        let counts = config.probe.counts();
+        let n = 6;
+        let seeds: Vec<u64> = (0..n as u64).collect();
+        let mut batch = EpisodeBatch::new(config, &seeds, Some(threads)).unwrap();
+        assert_eq!(batch.threads(), threads);
+        let mut maps = vec![0u8; n * batch.map_len()];
+        let mut proprio = vec![0f32; n * PROPRIO_LEN];
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut out = Vec::new();
+        for round in 0..8u64 {
+            let commands: Vec<Command> = (0..n)
+                .map(|i| match rng.random_range(0..6) {
+                    _ if batch.episodes()[i].last_info().terminated => Command::Reset(100 + round),
+                    0 => Command::Reset(10 * round + i as u64),
+                    1 => Command::Hold,
+                    _ => Command::Step(match action_mode {
+                        ActionMode::Wrist => [0; 3].map(|_| rng.random_range(-1.0..1.0)),
+                        ActionMode::Probe => {
+                            [0, 1, 2].map(|k| rng.random_range(0..counts[k]) as f64)
+                        }
+                    }),
+                })
+                .collect();
+            batch.run(&commands, &mut maps, &mut proprio).unwrap();
+            let infos = batch.episodes().iter().map(|e| *e.last_info()).collect();
+            out.push((maps.clone(), proprio.clone(), infos));
+        }
+        out
+    }
+
+    #[test]
+    fn mixed_resets_holds_and_steps_give_the_same_results_on_any_thread_count() {
+        for action_mode in [ActionMode::Wrist, ActionMode::Probe] {
+            let one = trace(action_mode, 1);
+            for threads in [2, 3, 6] {
+                assert!(
+                    one == trace(action_mode, threads),
+                    "{action_mode:?}: {threads} threads differ from one"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_first_failing_episode_is_reported_though_resets_run_first() {
+        let mut config = EpisodeConfig::default();
+        config.map.mode = MapMode::None;
+        let n = 4;
+        let mut batch = EpisodeBatch::new(config, &[0, 1, 2, 3], Some(2)).unwrap();
+        let mut proprio = vec![0f32; n * PROPRIO_LEN];
+        let ended = |batch: &EpisodeBatch| -> Vec<usize> {
+            (0..n)
+                .filter(|&i| batch.episodes()[i].last_info().terminated)
+                .collect()
+        };
+        // The oracle ends episodes (success); ended ones hold until two have ended.
+        for _ in 0..400 {
+            if ended(&batch).len() >= 2 {
+                break;
+            }
+            let commands: Vec<Command> = batch
+                .episodes()
+                .iter()
+                .map(|e| match e.last_info().terminated {
+                    true => Command::Hold,
+                    false => Command::Step(oracle_action(e)),
+                })
+                .collect();
+            batch.run(&commands, &mut [], &mut proprio).unwrap();
+        }
+        let ended = ended(&batch);
+        assert!(ended.len() >= 2, "the oracle ended only {ended:?}");
+        // Step every ended episode (each fails) and reset the last episode (queued first).
+        let commands: Vec<Command> = (0..n)
+            .map(|i| match i {
+                _ if ended.contains(&i) => Command::Step([0.0; 3]),
+                _ if i == n - 1 => Command::Reset(77),
+                _ => Command::Hold,
+            })
+            .collect();
+        let error = batch.run(&commands, &mut [], &mut proprio).unwrap_err();
+        assert!(
+            matches!(error, EpisodeError::InEpisode { index, .. } if index == ended[0]),
+            "{error} (ended: {ended:?})"
+        );
+        if !ended.contains(&(n - 1)) {
+            assert_eq!(
+                batch.episodes()[n - 1].last_info().steps,
+                0,
+                "the reset ran"
+            );
+        }
+    }
 }
