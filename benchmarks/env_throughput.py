@@ -7,11 +7,14 @@ Prints, per map mode (gpis, occupancy, none):
 - median step time by step index bucket (it must stay flat as the GPIS grows);
 - resident memory added per env (16 envs built, reset and stepped after the baseline);
 and the speed-up of the vector env (one Rust batch on all cores) over the same batch on one
-thread, for 8 and 16 envs (medians of alternating rounds; with ``copy=False`` too where the
-env has it). The machine is shared and noisy: compare medians and ratios from one run.
+thread, for 8 and 16 envs in both action modes (``wrist`` and ``probe``, random actions;
+medians of alternating rounds; with ``copy=False`` too where the env has it), each with the
+machine's load average (``/proc/loadavg``) beside it. The machine is shared and noisy:
+compare medians and ratios from one run, and distrust a speed-up measured while the load
+average is above the free cores.
 
 Usage (from the repository root): ``python -m benchmarks.env_throughput [--steps 3000]
-[--modes gpis none] [--num-envs 8 16] [--vector-only]``
+[--modes gpis none] [--action-modes wrist probe] [--num-envs 8 16] [--vector-only]``
 """
 
 from __future__ import annotations
@@ -25,6 +28,7 @@ import time
 from typing import Any
 
 import numpy as np
+from gymnasium.spaces import MultiDiscrete
 
 from tactile_search import CupboardSearchEnv, CupboardSearchVectorEnv
 from tactile_search.envs.config import MAP_MODES
@@ -74,15 +78,33 @@ def run_policy(mode: str, policy: str, steps: int, seed: int) -> dict[str, float
     }
 
 
+def load_average() -> str:
+    """The 1-minute load average (``/proc/loadavg``), or ``"?"`` where there is none."""
+    try:
+        with open("/proc/loadavg") as loadavg:
+            return loadavg.read().split()[0]
+    except OSError:
+        return "?"
+
+
+def random_actions(env: CupboardSearchVectorEnv, rng: np.random.Generator) -> np.ndarray:
+    """One random action per episode: wrist motions in [-1, 1]^3, or probe indices."""
+    single = env.single_action_space
+    if isinstance(single, MultiDiscrete):  # the probe mode
+        return rng.integers(0, single.nvec, (env.num_envs, len(single.nvec)))
+    return rng.uniform(-1, 1, (env.num_envs, *single.shape))
+
+
 def vector_speedup(
     mode: str, num_envs: int, steps: int, rounds: int = 12, **kwargs: object
 ) -> dict[int | None, dict[str, float]]:
     """Steps/s of one batch of ``num_envs`` on 1 thread (key 1) and on every core (key
     None), medians of ``rounds`` short alternating rounds of ``steps / rounds`` batch steps
-    (the machine is shared: fine alternation spreads its load swings over both). Where the
-    batch reports the time its episodes' work took with the GIL released
-    (``parallel_seconds``), also the ms per batch step of that parallel part and of the
-    serial rest. ``kwargs`` go to the vector env (``copy=False``)."""
+    (the machine is shared: fine alternation spreads its load swings over both), random
+    actions of the env's action mode. Where the batch reports the time its episodes' work
+    took with the GIL released (``parallel_seconds``), also the ms per batch step of that
+    parallel part and of the serial rest. ``kwargs`` go to the vector env (``copy=False``,
+    ``action_mode``)."""
     envs = {
         threads: CupboardSearchVectorEnv(num_envs=num_envs, threads=threads, map=mode, **kwargs)
         for threads in (1, None)
@@ -95,7 +117,7 @@ def vector_speedup(
     for _ in range(rounds):
         for threads, vector in envs.items():
             rng = np.random.default_rng(0)
-            actions = [rng.uniform(-1, 1, (num_envs, 3)) for _ in range(steps // rounds)]
+            actions = [random_actions(vector, rng) for _ in range(steps // rounds)]
             inside = getattr(vector._batch, "parallel_seconds", float("nan"))
             start = time.perf_counter()
             for action in actions:
@@ -179,6 +201,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--steps", type=int, default=3000, help="steps per measurement")
     parser.add_argument("--modes", nargs="+", default=list(MAP_MODES))
     parser.add_argument("--num-envs", type=int, nargs="+", default=[8, 16], help="vector env sizes")
+    parser.add_argument(
+        "--action-modes", nargs="+", default=["wrist", "probe"], help="vector env action modes"
+    )
     parser.add_argument("--vector-only", action="store_true", help="only the vector env speed-ups")
     args = parser.parse_args(argv)
     print(f"cores: {os.cpu_count()}; shared, noisy machine: medians from one run")
@@ -201,23 +226,28 @@ def main(argv: list[str] | None = None) -> None:
         variants: list[tuple[str, dict]] = [("", {})]
         if "copy" in inspect.signature(CupboardSearchVectorEnv.__init__).parameters:
             variants.append((", copy=False", {"copy": False}))
-        for num_envs in args.num_envs:
-            for label, kwargs in variants:
-                steps = max(2 * args.steps // num_envs, 120)
-                r = vector_speedup(mode, num_envs, steps, **kwargs)
-                one, every = r[1], r[None]
-                print(
-                    f"  vector env ({num_envs} envs{label}): {one['rate']:.0f} steps/s on 1 "
-                    f"thread, {every['rate']:.0f} on all cores, "
-                    f"speed-up {every['rate'] / one['rate']:.2f}x"
-                )
-                if not np.isnan(one["parallel_ms"]):
+        for action_mode in args.action_modes:
+            # A probe step is 10 to 60 wrist motions: fewer batch steps measure as long.
+            per_step = 1 if action_mode == "wrist" else 5
+            for num_envs in args.num_envs:
+                for label, kwargs in variants:
+                    steps = max(2 * args.steps // (num_envs * per_step), 120 // per_step, 12)
+                    load = load_average()
+                    r = vector_speedup(mode, num_envs, steps, action_mode=action_mode, **kwargs)
+                    one, every = r[1], r[None]
                     print(
-                        f"          per batch step: parallel part {one['parallel_ms']:.2f} ms "
-                        f"on 1 thread, {every['parallel_ms']:.2f} ms on all cores "
-                        f"({one['parallel_ms'] / every['parallel_ms']:.2f}x); serial part "
-                        f"{one['serial_ms']:.3f} / {every['serial_ms']:.3f} ms"
+                        f"  vector env ({action_mode}, {num_envs} envs{label}): "
+                        f"{one['rate']:.0f} steps/s on 1 thread, {every['rate']:.0f} on all "
+                        f"cores, speed-up {every['rate'] / one['rate']:.2f}x "
+                        f"(load average {load} before, {load_average()} after)"
                     )
+                    if not np.isnan(one["parallel_ms"]):
+                        print(
+                            f"          per batch step: parallel part {one['parallel_ms']:.2f} "
+                            f"ms on 1 thread, {every['parallel_ms']:.2f} ms on all cores "
+                            f"({one['parallel_ms'] / every['parallel_ms']:.2f}x); serial part "
+                            f"{one['serial_ms']:.3f} / {every['serial_ms']:.3f} ms"
+                        )
         if not args.vector_only:
             print(f"  resident memory added per env: {memory_per_env(mode):.2f} MiB")
     print(f"control: two CPU-bound processes get {free_cores():.2f}x the work of one")
