@@ -325,8 +325,10 @@ mod tests {
     /// Every observation and info after each run of mixed commands (resets, holds, steps in
     /// random order) on a batch of `threads` threads.
     fn trace(action_mode: ActionMode, threads: usize) -> Vec<(Vec<u8>, Vec<f32>, Vec<StepInfo>)> {
-        let mut config = EpisodeConfig::default();
-        config.action_mode = action_mode;
+        let config = EpisodeConfig {
+            action_mode,
+            ..EpisodeConfig::default()
+        };
         let counts = config.probe.counts();
         let n = 6;
         let seeds: Vec<u64> = (0..n as u64).collect();
