@@ -1,7 +1,9 @@
 """Threads: an env, a scene or a map serves one thread at a time. A call that meets another
 thread's call still running raises a RuntimeError saying so (not pyo3's bare "Already
 borrowed"), leaves the object usable, and objects of their own run side by side in threads
-with the same results as one after another."""
+with the same results as one after another. A vector env's own threads (the calling thread
+and its helpers, taking the episodes' tasks from one queue, resets first) give the same
+results however many there are."""
 
 from __future__ import annotations
 
@@ -11,7 +13,7 @@ from collections.abc import Callable
 import numpy as np
 import pytest
 
-from tactile_search import CupboardSearchEnv, Gpis
+from tactile_search import CupboardSearchEnv, CupboardSearchVectorEnv, Gpis
 from tactile_search._core import Scene
 
 IN_USE = "in use by another thread"
@@ -105,4 +107,32 @@ def test_envs_of_their_own_run_side_by_side_in_threads_as_one_after_another(mode
         run(seed, sequential)
     for seed in (5, 6):
         for a, b in zip(threaded[seed], sequential[seed], strict=True):
+            np.testing.assert_array_equal(a, b)
+
+
+@pytest.mark.parametrize("action_mode", ["wrist", "probe"])
+def test_a_vector_env_gives_the_same_rollouts_on_one_two_or_three_threads(
+    action_mode: str,
+) -> None:
+    """Short episodes, so autoresets (queued first) run in the same calls as steps; three
+    threads is more than this machine's cores, and each call's tasks land on threads
+    differently."""
+    traces = []
+    for threads in (1, 2, 3):
+        env = CupboardSearchVectorEnv(
+            num_envs=5, threads=threads, action_mode=action_mode, max_steps=6
+        )
+        env.action_space.seed(4)
+        obs, _ = env.reset(seed=8)
+        trace = [obs[key] for key in sorted(obs)]
+        ended = 0
+        for _ in range(14):
+            obs, rewards, terminated, truncated, info = env.step(env.action_space.sample())
+            trace += [obs[key] for key in sorted(obs)]
+            trace += [rewards, terminated, truncated, *(info[key] for key in sorted(info))]
+            ended += int((terminated | truncated).sum())
+        assert ended >= 5, f"only {ended} episodes ended: too few autoresets to test"
+        traces.append(trace)
+    for other in traces[1:]:
+        for a, b in zip(traces[0], other, strict=True):
             np.testing.assert_array_equal(a, b)
