@@ -18,7 +18,7 @@ It prints each round, then per variant the medians: trained probes/s, its ratio 
 ``recipe`` variant's in the same rounds, each part in ms per trained probe, the update's
 cost per sample pass (µs: the update's time over ``n_epochs`` x probes), parameters and the
 map grid the encoder keeps. With gymnasium's MuJoCo envs installed (the ``bench`` extra),
-each round also runs ``Pusher-v5`` with random actions for the same span and prints the
+each round also runs ``Pusher-v5`` with random actions for a few seconds and prints the
 trained probes/s over Pusher-v5's steps/s (the budgets of ``docs/DESIGN.md`` §5 are such
 ratios). ``--bf16`` adds, per variant, one minibatch update with and without bfloat16
 autocast, side by side (it pays only on CPUs with AMX; the line says whether this one has
@@ -70,6 +70,8 @@ VARIANTS: dict[str, tuple[str, Path | None, str | None]] = {
 }
 REFERENCE_VARIANT = "recipe"
 PUSHER_ID = "Pusher-v5"
+#: How long Pusher-v5 runs after each round, s.
+PUSHER_SECONDS = 5.0
 
 
 def positive_int(text: str) -> int:
@@ -213,7 +215,7 @@ def pusher_rate(seconds: float) -> float | None:
     subject.env.action_space.seed(0)
     steps, elapsed_ns = 0, 0
     while elapsed_ns < seconds * 1e9:
-        ns, _ = run_steps(subject, 1000)
+        ns, _, _ = run_steps(subject, 1000)
         steps, elapsed_ns = steps + 1000, elapsed_ns + ns
     subject.env.close()
     return steps / (elapsed_ns * 1e-9)
@@ -335,7 +337,7 @@ def main(argv: list[str] | None = None) -> None:
                 f"{1e3 * (m.total[-1] - m.rollout[-1]) / m.probes[-1]:.2f} ms per probe)",
                 flush=True,
             )
-        rate = pusher_rate(statistics.median(m.total[-1] for m in measured))
+        rate = pusher_rate(PUSHER_SECONDS)
         if rate is not None:
             pusher.append(rate)
             print(f"  round {round_index} {PUSHER_ID:>28}: {rate:,.0f} steps/s", flush=True)
