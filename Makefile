@@ -59,6 +59,8 @@ bench: build-dev $(VENV)/.extra-bench $(VENV)/.extra-scale ## criterion benchmar
 	cargo run --release --quiet -p env_core --example physics_tradeoffs
 	$(PY) -m benchmarks.prior_rows
 	$(PY) -m benchmarks.peer_envs --json results/peer_envs.json
+	$(PY) -m benchmarks.learner_speed
+	$(PY) -m benchmarks.env_throughput --vector-only --action-modes wrist probe
 	$(PY) -m benchmarks.soak --out results/soak.png --json results/soak.json
 	$(PY) -m benchmarks.ray_grid --json results/ray_grid.json
 
