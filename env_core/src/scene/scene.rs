@@ -266,45 +266,13 @@ impl Scene {
             y: start.y + commanded.dy,
             yaw: start.yaw + commanded.dyaw,
         };
-        let substeps = self.config.physics.substeps;
-        let mut blocked = None;
-        if self.config.physics.fast_free_motion && self.free_motion(start, goal) {
-            let duration = substeps as f64 * self.config.physics.dt;
-            self.hand.carry(
-                &mut self.world,
-                substep_target(start, goal, substeps, substeps),
-                duration,
-            );
-            self.steps += 1;
-            self.free_motions += 1;
-            // No reading (and no noise drawn for none), as the stepped command would give.
-            self.contacts_true.clear();
-            self.contacts = with_noise(&[], &self.config.touch, &mut self.touch_rng);
-            let end = self.hand.pose();
-            return Ok(StepReport {
-                commanded,
-                clipped: commanded != command,
-                moved: HandCommand {
-                    dx: end.x - start.x,
-                    dy: end.y - start.y,
-                    dyaw: end.yaw - start.yaw,
-                },
-                blocked: None,
-            });
-        }
-        for k in 1..=substeps {
-            if blocked.is_none() {
-                let target = substep_target(start, goal, k, substeps);
-                blocked = self.hand.advance(&mut self.world, target);
-            } else {
-                // Hold the reached pose (a kinematic body keeps its last target otherwise).
-                let here = self.hand.pose();
-                self.hand.advance(&mut self.world, here);
-            }
-            self.physics_step();
-        }
+        let blocked = if self.config.physics.fast_free_motion && self.free_motion(start, goal) {
+            self.carry_freely(start, goal);
+            None
+        } else {
+            self.step_physics_towards(start, goal)
+        };
         self.steps += 1;
-        self.sense_touch();
         let end = self.hand.pose();
         Ok(StepReport {
             commanded,
@@ -316,6 +284,40 @@ impl Scene {
             },
             blocked,
         })
+    }
+
+    /// The stepped command: `substeps` physics steps towards the interpolated poses, each
+    /// checked against the walls (the hand holds the last clear pose once one is blocked),
+    /// then the touch readings. Returns what blocked the hand, if anything.
+    fn step_physics_towards(&mut self, start: HandPose, goal: HandPose) -> Option<Blocker> {
+        let substeps = self.config.physics.substeps;
+        let mut blocked = None;
+        for k in 1..=substeps {
+            if blocked.is_none() {
+                let target = substep_target(start, goal, k, substeps);
+                blocked = self.hand.advance(&mut self.world, target);
+            } else {
+                // Hold the reached pose (a kinematic body keeps its last target otherwise).
+                let here = self.hand.pose();
+                self.hand.advance(&mut self.world, here);
+            }
+            self.physics_step();
+        }
+        self.sense_touch();
+        blocked
+    }
+
+    /// The fast path of free motion (see [`Scene::free_motion`]): the hand placed at the
+    /// command's end without physics steps, and no reading (no noise drawn for none), as
+    /// the stepped command would give.
+    fn carry_freely(&mut self, start: HandPose, goal: HandPose) {
+        let substeps = self.config.physics.substeps;
+        let duration = substeps as f64 * self.config.physics.dt;
+        let end = substep_target(start, goal, substeps, substeps);
+        self.hand.carry(&mut self.world, end, duration);
+        self.free_motions += 1;
+        self.contacts_true.clear();
+        self.contacts = with_noise(&[], &self.config.touch, &mut self.touch_rng);
     }
 
     /// Whether the command from `start` to `goal` may take the fast path of free motion
