@@ -31,7 +31,7 @@ import numpy as np
 from gymnasium.spaces import MultiDiscrete
 
 from tactile_search import CupboardSearchEnv, CupboardSearchVectorEnv
-from tactile_search.envs.config import MAP_MODES
+from tactile_search.envs.config import ACTION_MODES, MAP_MODES
 
 
 def rss_mib() -> float:
@@ -202,7 +202,11 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--modes", nargs="+", default=list(MAP_MODES))
     parser.add_argument("--num-envs", type=int, nargs="+", default=[8, 16], help="vector env sizes")
     parser.add_argument(
-        "--action-modes", nargs="+", default=["wrist", "probe"], help="vector env action modes"
+        "--action-modes",
+        nargs="+",
+        choices=ACTION_MODES,
+        default=list(ACTION_MODES),
+        help="vector env action modes",
     )
     parser.add_argument("--vector-only", action="store_true", help="only the vector env speed-ups")
     args = parser.parse_args(argv)

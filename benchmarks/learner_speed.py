@@ -55,7 +55,7 @@ import yaml
 from agents.sb3.encoders import MapExtractor, map_feature_shape
 from agents.sb3.recipes import algorithm_class, algorithm_kwargs, load_hyperparams
 from agents.sb3.training_env import make_training_env
-from tactile_search._validation import as_count
+from benchmarks.arguments import positive_int
 
 ABLATIONS = Path("docs/results/ablations_speed")
 #: name -> (the map mode, the recipe file (None: agents/hyperparams/ppo.yml), the
@@ -72,14 +72,6 @@ REFERENCE_VARIANT = "recipe"
 PUSHER_ID = "Pusher-v5"
 #: How long Pusher-v5 runs after each round, s.
 PUSHER_SECONDS = 5.0
-
-
-def positive_int(text: str) -> int:
-    """argparse type: an int >= 1 (the project's one count check, ``as_count``)."""
-    try:
-        return as_count("the value", int(text))
-    except ValueError as err:
-        raise argparse.ArgumentTypeError(f"expected a positive int, got {text!r}: {err}") from err
 
 
 def variant_spec(text: str) -> tuple[str, dict[str, Any]]:

@@ -35,17 +35,9 @@ from pathlib import Path
 import yaml
 
 from agents.run_dir import CONFIG_FILE
-from tactile_search._validation import as_count
+from benchmarks.arguments import positive_int
 
 ARRANGEMENTS = ("alone-1", "alone-all", "side-by-side")
-
-
-def positive_int(text: str) -> int:
-    """argparse type: an int >= 1 (the project's one count check, ``as_count``)."""
-    try:
-        return as_count("the value", int(text))
-    except ValueError as err:
-        raise argparse.ArgumentTypeError(f"expected a positive int, got {text!r}: {err}") from err
 
 
 def train_command(args: argparse.Namespace, seed: int, threads: int, out: Path) -> list[str]:

@@ -22,6 +22,8 @@ from tactile_search import _core
 SETTINGS: tuple[dict[str, Any], ...] = tuple(_core.EpisodeBatch.settings())
 #: The map modes, as the core names them (``gpis``, ``occupancy``, ``none``).
 MAP_MODES: tuple[str, ...] = next(s["choices"] for s in SETTINGS if s["key"] == "map")
+#: The action modes, as the core names them (``wrist``, ``probe``).
+ACTION_MODES: tuple[str, ...] = next(s["choices"] for s in SETTINGS if s["key"] == "action_mode")
 #: The reward terms' settings (the core names them ``reward_*``).
 REWARD_KEYS: frozenset[str] = frozenset(
     s["key"] for s in SETTINGS if s["key"].startswith("reward_")
