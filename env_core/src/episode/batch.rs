@@ -214,7 +214,7 @@ impl EpisodeBatch {
             .collect();
         // Resets first (a stable sort: otherwise in episode order).
         tasks.sort_by_key(|task| !matches!(task.command, Command::Reset(_)));
-        let mut failures = match &self.helpers {
+        let failures = match &self.helpers {
             Some(pool) if tasks.len() > 1 => {
                 let helpers = pool.current_num_threads().min(tasks.len() - 1);
                 let queue = Mutex::new(tasks.into_iter());
@@ -235,12 +235,8 @@ impl EpisodeBatch {
                 .filter_map(|task| carry_out(task).err())
                 .collect(),
         };
-        match failures.iter().map(|(index, _)| *index).min() {
-            Some(first) => {
-                let at = failures.iter().position(|(index, _)| *index == first);
-                let (index, error) = failures.swap_remove(at.expect("the first failure"));
-                Err(error.in_episode(index))
-            }
+        match failures.into_iter().min_by_key(|(index, _)| *index) {
+            Some((index, error)) => Err(error.in_episode(index)),
             None => Ok(()),
         }
     }

@@ -243,30 +243,31 @@ impl Hand {
             (
                 [joint[0] + finger_mid[0], joint[1] + finger_mid[1]],
                 finger_yaw,
-                [
-                    c.finger_half_thickness,
-                    0.5 * c.finger_length,
-                    c.finger_half_height,
-                ],
+                self.finger_half_extents(),
                 &self.finger_shape,
             ),
         ];
         let exact_poses = self.part_poses(pose, finger_angle);
         let margin = c.wall_margin;
-        for (wall, wall_pose, wall_shape) in &self.walls {
+        for wall in &self.walls {
             for ((offset, yaw, half, shape), part_pose) in parts.iter().zip(&exact_poses) {
                 let centre = [pose.x + offset[0], pose.y + offset[1], self.z];
-                if box_gap(wall, centre, *yaw, *half) >= margin + QUICK_CLEAR_SLACK {
-                    continue;
-                }
-                let clear = query::distance(wall_pose, wall_shape, part_pose, *shape)
-                    .is_ok_and(|d| f64::from(d.distance) >= margin);
-                if !clear {
-                    return Some(Blocker::Wall(wall.wall));
+                if !clear_of_wall(wall, (centre, *yaw, *half), part_pose, shape, margin) {
+                    return Some(Blocker::Wall(wall.0.wall));
                 }
             }
         }
         None
+    }
+
+    /// The finger's half extents (across, along, up), m.
+    fn finger_half_extents(&self) -> [f64; 3] {
+        let c = &self.config;
+        [
+            c.finger_half_thickness,
+            0.5 * c.finger_length,
+            c.finger_half_height,
+        ]
     }
 
     /// The world poses of the wrist, the arm and the finger (held at deflection
@@ -304,27 +305,20 @@ impl Hand {
     }
 
     /// Whether the finger at `pose` (held at `finger_angle`) is at least `margin` from every
-    /// cupboard wall (exact shape distances, after the bounding-box test of
-    /// [`Self::blocker`]). Cost: 5 box-box gaps, plus an exact distance per near wall.
+    /// cupboard wall (the same test as [`Self::blocker`]'s, [`clear_of_wall`]). Cost: 5
+    /// box-box gaps, plus an exact distance per near wall.
     pub(crate) fn finger_clear_of_walls(
         &self,
         finger_pose: &Pose,
         finger_yaw: f64,
         margin: f64,
     ) -> bool {
-        let c = &self.config;
         let t = finger_pose.translation;
         let centre = [f64::from(t.x), f64::from(t.y), f64::from(t.z)];
-        let half = [
-            c.finger_half_thickness,
-            0.5 * c.finger_length,
-            c.finger_half_height,
-        ];
-        self.walls.iter().all(|(wall, wall_pose, wall_shape)| {
-            box_gap(wall, centre, finger_yaw, half) >= margin + QUICK_CLEAR_SLACK
-                || query::distance(wall_pose, wall_shape, finger_pose, &self.finger_shape)
-                    .is_ok_and(|d| f64::from(d.distance) >= margin)
-        })
+        let bounds = (centre, finger_yaw, self.finger_half_extents());
+        self.walls
+            .iter()
+            .all(|wall| clear_of_wall(wall, bounds, finger_pose, &self.finger_shape, margin))
     }
 
     /// Whether the finger is at rest relative to the wrist: deflected by at most
@@ -451,6 +445,22 @@ impl Hand {
             yaw: self.pose.yaw + self.finger_angle(world),
         }
     }
+}
+
+/// Whether a part of the hand is at least `margin` from a wall: first the gap to its
+/// bounding box (`bounds`: centre, yaw about z, half extents; exact f64 and a lower bound of
+/// the distance, see [`box_gap`]), then, only when that gap is within the margin, the exact
+/// distance of its `shape` at `part_pose`. Cost: O(1), one parry distance at most.
+fn clear_of_wall(
+    (wall, wall_pose, wall_shape): &(WallBox, Pose, Cuboid),
+    (centre, yaw, half): ([f64; 3], f64, [f64; 3]),
+    part_pose: &Pose,
+    shape: &Cuboid,
+    margin: f64,
+) -> bool {
+    box_gap(wall, centre, yaw, half) >= margin + QUICK_CLEAR_SLACK
+        || query::distance(wall_pose, wall_shape, part_pose, shape)
+            .is_ok_and(|d| f64::from(d.distance) >= margin)
 }
 
 /// Distance between an axis-aligned wall slab and the bounding box of a box with half

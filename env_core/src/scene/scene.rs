@@ -14,7 +14,6 @@ use super::cupboard::Cupboard;
 use super::depth_camera::DepthCamera;
 use super::disturbance::Disturbance;
 use super::error::SceneError;
-use super::footprint::JarShape;
 use super::free_motion::{self, JarObstacle};
 use super::hand::{Blocker, Hand, HandPose};
 use super::jar::JarSpec;
@@ -160,14 +159,10 @@ impl Scene {
             .enumerate()
             .map(|(i, jar)| {
                 let (body, collider) = jar.insert(&mut world, i, config.layout.jar_friction);
-                let radius = match jar.shape {
-                    JarShape::Round { radius } => radius,
-                    JarShape::Square { half_side } => half_side * std::f64::consts::SQRT_2,
-                };
                 JarObstacle {
                     body,
                     collider,
-                    radius,
+                    radius: jar.shape.bounding_radius(),
                 }
             })
             .collect();
