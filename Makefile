@@ -57,6 +57,7 @@ bench: build-dev $(VENV)/.extra-bench $(VENV)/.extra-scale ## criterion benchmar
 	cargo bench -p env_core --bench probe
 	$(PY) -m benchmarks.gpis_append --out results/gpis_append.png
 	cargo run --release --quiet -p env_core --example physics_tradeoffs
+	cargo run --release --quiet -p env_core --example batch_scaling
 	$(PY) -m benchmarks.prior_rows
 	$(PY) -m benchmarks.peer_envs --json results/peer_envs.json
 	$(PY) -m benchmarks.learner_speed

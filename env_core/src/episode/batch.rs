@@ -3,10 +3,15 @@
 //! One call to [`EpisodeBatch::run`] gives each episode a [`Command`] (step with an action,
 //! reset to a seed, or hold) and carries them out on the calling thread and the batch's own
 //! helper threads (a rayon pool of `threads - 1`, kept alive: spawning threads every call
-//! would cost as much as a step). The calling thread works too, from the first task: a
-//! hand-off to a sleeping pool and back costs two thread wake-ups per call (tens to hundreds
-//! of microseconds on a virtual machine), as much as the whole parallel part of a wrist-mode
-//! step of 16 episodes (about 0.7 ms of work). The tasks, one per episode that steps or
+//! would cost as much as a step). The calling thread works too, from the first task. A
+//! thread that sleeps costs a wake-up to start again: 70-200 µs on a virtual machine, whose
+//! idle core halts (`cargo run --release -p env_core --example thread_wake` measures it),
+//! against about 60 µs of work per episode in a wrist-mode step. So no thread sleeps inside
+//! a run: the calling thread waits for the helpers' last tasks by spinning (then yielding),
+//! and after a run each helper stays awake for [`HELPER_WARM`] (a spinning job in its pool)
+//! to take the next run's tasks at once; past that it sleeps, so an idle batch costs no
+//! CPU. This is the wait policy of OpenMP runtimes (spin, then sleep). The tasks, one per
+//! episode that steps or
 //! resets, are taken one at a time from a shared queue, resets first: a reset costs as much
 //! as about 150 wrist steps, so one started last would leave the other threads idle while
 //! it runs alone. Each task writes its episode's observation straight into that episode's
@@ -16,9 +21,12 @@
 //! columns (O(info fields) per episode, on the calling thread).
 
 use std::num::NonZeroUsize;
-use std::sync::{Mutex, PoisonError};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, PoisonError};
 use std::thread;
+use std::time::{Duration, Instant};
 
+use crossbeam_utils::Backoff;
 use rayon::{ThreadPool, ThreadPoolBuilder};
 
 use super::config::EpisodeConfig;
@@ -38,12 +46,45 @@ pub enum Command {
     Hold,
 }
 
+/// How long a helper thread stays awake after a run for the next one: longer than the gap
+/// between two steps of a vector environment stepped in a loop (its serial part, ~0.1 ms),
+/// short enough that a batch waiting on a learner burns little of its core.
+pub const HELPER_WARM: Duration = Duration::from_millis(1);
+
 /// N episodes with the same configuration.
 pub struct EpisodeBatch {
     episodes: Vec<Episode>,
     threads: usize,
     /// `threads - 1` helper threads (none for one thread): the calling thread is the other.
-    helpers: Option<ThreadPool>,
+    helpers: Option<Helpers>,
+}
+
+/// The helper threads and the count of runs they have been handed (a helper kept warm
+/// after run k stops spinning when it changes).
+struct Helpers {
+    pool: ThreadPool,
+    runs: Arc<AtomicU64>,
+}
+
+impl Helpers {
+    /// Starts a run: wakes the helpers kept warm after the last one. Returns its number.
+    fn begin_run(&self) -> u64 {
+        self.runs.fetch_add(1, Ordering::AcqRel) + 1
+    }
+
+    /// Keeps every helper awake for [`HELPER_WARM`] after run `run`, or until the next run.
+    fn keep_warm(&self, run: u64) {
+        for _ in 0..self.pool.current_num_threads() {
+            let runs = Arc::clone(&self.runs);
+            self.pool.spawn(move || {
+                let start = Instant::now();
+                let backoff = Backoff::new();
+                while runs.load(Ordering::Acquire) == run && start.elapsed() < HELPER_WARM {
+                    backoff.snooze();
+                }
+            });
+        }
+    }
 }
 
 impl EpisodeBatch {
@@ -59,11 +100,12 @@ impl EpisodeBatch {
             .collect::<Result<Vec<_>, _>>()?;
         let cores = thread::available_parallelism().map_or(1, NonZeroUsize::get);
         let threads = threads.unwrap_or(cores).clamp(1, episodes.len().max(1));
-        let helpers = (threads > 1).then(|| {
-            ThreadPoolBuilder::new()
+        let helpers = (threads > 1).then(|| Helpers {
+            pool: ThreadPoolBuilder::new()
                 .num_threads(threads - 1)
                 .build()
-                .expect("the OS can start the batch's helper threads")
+                .expect("the OS can start the batch's helper threads"),
+            runs: Arc::new(AtomicU64::new(0)),
         });
         Ok(Self {
             episodes,
@@ -215,16 +257,29 @@ impl EpisodeBatch {
         // Resets first (a stable sort: otherwise in episode order).
         tasks.sort_by_key(|task| !matches!(task.command, Command::Reset(_)));
         let failures = match &self.helpers {
-            Some(pool) if tasks.len() > 1 => {
-                let helpers = pool.current_num_threads().min(tasks.len() - 1);
+            Some(helpers) if tasks.len() > 1 => {
+                let run = helpers.begin_run();
+                let working = helpers.pool.current_num_threads().min(tasks.len() - 1);
                 let queue = Mutex::new(tasks.into_iter());
                 let failures = Mutex::new(Vec::new());
-                pool.in_place_scope(|scope| {
-                    for _ in 0..helpers {
-                        scope.spawn(|_| drain(&queue, &failures));
+                let unfinished = AtomicUsize::new(working);
+                helpers.pool.in_place_scope(|scope| {
+                    for _ in 0..working {
+                        scope.spawn(|_| {
+                            // Counted off even if a task panics (rayon then re-raises it
+                            // here), so the wait below ends.
+                            let _finished = CountOff(&unfinished);
+                            drain(&queue, &failures);
+                        });
                     }
                     drain(&queue, &failures);
+                    // Spin (then yield) rather than sleep on the scope's latch.
+                    let backoff = Backoff::new();
+                    while unfinished.load(Ordering::Acquire) > 0 {
+                        backoff.snooze();
+                    }
                 });
+                helpers.keep_warm(run);
                 failures
                     .into_inner()
                     .unwrap_or_else(PoisonError::into_inner)
@@ -259,6 +314,15 @@ impl EpisodeBatch {
         terminated[index] = stepped && info.terminated;
         truncated[index] = stepped && info.truncated;
         infos.write(index, info);
+    }
+}
+
+/// Takes one off a count of unfinished helpers when dropped.
+struct CountOff<'a>(&'a AtomicUsize);
+
+impl Drop for CountOff<'_> {
+    fn drop(&mut self) {
+        self.0.fetch_sub(1, Ordering::Release);
     }
 }
 
