@@ -14,6 +14,8 @@ from __future__ import annotations
 import os
 from typing import Any
 
+from tactile_search import _core
+
 
 def rss_bytes() -> int:
     """Resident set size of this process now (``/proc/self/statm``; else the peak)."""
@@ -81,12 +83,14 @@ LIVE_HEAP_NOTE = (
 
 def live_heap_bytes() -> int:
     """Bytes the program holds from malloc now: glibc's ``mallinfo2`` (summed over every
-    arena) in-use chunks ``uordblks`` plus directly mmapped blocks ``hblkhd``; -1 without
-    glibc. Unlike RSS it does not count free memory the allocator keeps or cannot return
-    (fragmentation), so growth here is memory still referenced: a leak. It covers the Rust
-    core, numpy's buffers and Python's large objects; Python's small objects live in
-    pymalloc's own mmapped arenas (``sys.getallocatedblocks()``, printed beside it)."""
+    arena) in-use chunks ``uordblks`` plus directly mmapped blocks ``hblkhd``, plus the
+    core's blocks of 1 MiB or more, which its allocator maps itself
+    (``_core.direct_mapped_bytes()``); -1 without glibc. Unlike RSS it does not count free
+    memory the allocator keeps or cannot return (fragmentation), so growth here is memory
+    still referenced: a leak. It covers the Rust core, numpy's buffers and Python's large
+    objects; Python's small objects live in pymalloc's own mmapped arenas
+    (``sys.getallocatedblocks()``, printed beside it)."""
     if MALLINFO2 is None:
         return -1
     info = MALLINFO2()
-    return int(info.uordblks + info.hblkhd)
+    return int(info.uordblks + info.hblkhd) + _core.direct_mapped_bytes()

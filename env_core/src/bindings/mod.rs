@@ -31,6 +31,14 @@ mod step_info;
 
 use pyo3::prelude::*;
 
+/// Bytes of the core's blocks of at least 1 MiB, which its allocator maps directly and
+/// returns to the system when they are freed (`env_core::direct_map`); glibc's `mallinfo2`
+/// does not count them.
+#[pyfunction]
+fn direct_mapped_bytes() -> usize {
+    crate::direct_map::direct_mapped_bytes()
+}
+
 /// The compiled core of `tactile_search`.
 #[pymodule]
 #[pyo3(name = "_core")]
@@ -43,6 +51,7 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     prior::register(m)?;
     m.add_function(wrap_pyfunction!(observation::observation_layout, m)?)?;
     m.add_function(wrap_pyfunction!(step_info::step_info_fields, m)?)?;
+    m.add_function(wrap_pyfunction!(direct_mapped_bytes, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -5,15 +5,14 @@
 //! helper threads (a rayon pool of `threads - 1`, kept alive: spawning threads every call
 //! would cost as much as a step). The calling thread works too, from the first task. A
 //! thread that sleeps costs a wake-up to start again: 70-200 µs on a virtual machine, whose
-//! idle core halts (`cargo run --release -p env_core --example thread_wake` measures it),
-//! against about 60 µs of work per episode in a wrist-mode step. So no thread sleeps inside
-//! a run: the calling thread waits for the helpers' last tasks by spinning (then yielding),
-//! and after a run each helper stays awake for [`HELPER_WARM`] (a spinning job in its pool)
-//! to take the next run's tasks at once; past that it sleeps, so an idle batch costs no
-//! CPU. This is the wait policy of OpenMP runtimes (spin, then sleep). The tasks, one per
-//! episode that steps or
-//! resets, are taken one at a time from a shared queue, resets first: a reset costs as much
-//! as about 150 wrist steps, so one started last would leave the other threads idle while
+//! idle core halts (`cargo run --release -p env_core --example batch_scaling` measures it),
+//! against about 60 µs of work per episode in a wrist-mode step. So threads spin before
+//! they sleep, the wait policy of OpenMP runtimes: the calling thread spins (then yields)
+//! for the helpers' last tasks, for at most [`CALLER_SPIN`], and after a run each helper
+//! stays awake for [`HELPER_WARM`] (a spinning job in its pool) to take the next run's tasks
+//! at once; past that it sleeps, so an idle batch costs no CPU. The tasks, one per episode
+//! that steps or resets, are taken one at a time from a shared queue, resets first: a reset
+//! costs as much as about 150 wrist steps, so one started last would leave the other threads idle while
 //! it runs alone. Each task writes its episode's observation straight into that episode's
 //! rows of the caller's buffers (in the bindings: numpy arrays allocated once per batch), so
 //! nothing is staged or copied and results do not depend on the thread count or on which
@@ -50,6 +49,13 @@ pub enum Command {
 /// between two steps of a vector environment stepped in a loop (its serial part, ~0.1 ms),
 /// short enough that a batch waiting on a learner burns little of its core.
 pub const HELPER_WARM: Duration = Duration::from_millis(1);
+
+/// How long the calling thread spins for the helpers' last tasks before it sleeps until
+/// they are done: longer than a wrist-mode task (~60 µs), far shorter than a scheduler's
+/// time slice. Unbounded, a caller spinning on a loaded machine kept its core busy while the
+/// helper it waited for queued for the other one (the soak saw wrist steps 20-80x slower
+/// while two trainings ran); a sleeping caller's core takes the helper instead.
+pub const CALLER_SPIN: Duration = Duration::from_micros(200);
 
 /// N episodes with the same configuration.
 pub struct EpisodeBatch {
@@ -273,9 +279,12 @@ impl EpisodeBatch {
                         });
                     }
                     drain(&queue, &failures);
-                    // Spin (then yield) rather than sleep on the scope's latch.
-                    let backoff = Backoff::new();
-                    while unfinished.load(Ordering::Acquire) > 0 {
+                    // Spin (then yield) rather than sleep on the scope's latch, for at
+                    // most CALLER_SPIN: past that the helper has likely lost its core to
+                    // another process, and only a sleeping caller frees one for it.
+                    let (backoff, spinning) = (Backoff::new(), Instant::now());
+                    while unfinished.load(Ordering::Acquire) > 0 && spinning.elapsed() < CALLER_SPIN
+                    {
                         backoff.snooze();
                     }
                 });
