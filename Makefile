@@ -62,6 +62,7 @@ bench: build-dev $(VENV)/.extra-bench $(VENV)/.extra-scale ## criterion benchmar
 	$(PY) -m benchmarks.peer_envs --json results/peer_envs.json
 	$(PY) -m benchmarks.learner_speed
 	$(PY) -m benchmarks.env_throughput --vector-only --action-modes wrist probe
+	$(PY) -m benchmarks.vector_overhead
 	$(PY) -m benchmarks.soak --out results/soak.png --json results/soak.json
 	$(PY) -m benchmarks.ray_grid --json results/ray_grid.json
 

@@ -235,10 +235,22 @@ def test_vector_env_draws_every_layout_from_its_layout_range() -> None:
     assert set(drawn_layout_seeds(narrow, seed=0, steps=30)) == {10, 11, 12}
 
 
-def test_vector_env_default_layout_range_draws_what_v0_always_drew() -> None:
-    env = CupboardSearchVectorEnv(num_envs=3, map="none")
-    expected = gym.utils.seeding.np_random(5)[0].integers(0, 2**63, size=3)
-    assert drawn_layout_seeds(env, seed=5, steps=0) == [int(s) for s in expected]
+def test_vector_env_default_layout_range_seeds_each_sub_env_as_the_single_env() -> None:
+    # reset(seed=5): sub-env i is the single env reset with seed 5 + i (layout 5 + i), and
+    # its next episode's layout comes from its own generator, seeded 5 + i.
+    env = CupboardSearchVectorEnv(num_envs=3, map="none", max_steps=1)
+    drawn = drawn_layout_seeds(env, seed=5, steps=2)
+    expected = [int(gym.utils.seeding.np_random(5 + i)[0].integers(0, 2**63)) for i in range(3)]
+    assert drawn == [5, 6, 7, *expected]
+
+
+def test_vector_env_seed_outside_a_narrow_layout_range_seeds_the_draw() -> None:
+    env = CupboardSearchVectorEnv(num_envs=2, map="none", layout_seeds=(2**32, 2**63))
+    drawn = drawn_layout_seeds(env, seed=5, steps=0)
+    expected = [int(gym.utils.seeding.np_random(5 + i)[0].integers(2**32, 2**63)) for i in range(2)]
+    assert drawn == expected
+    inside = drawn_layout_seeds(env, seed=2**40, steps=0)
+    assert inside == [2**40, 2**40 + 1]
 
 
 @pytest.mark.parametrize(

@@ -85,6 +85,11 @@ def test_info_keys_and_types_come_from_the_cores_table() -> None:
     vector = CupboardSearchVectorEnv(num_envs=3, map="none")
     _, infos = vector.reset(seed=0)
     _, _, _, _, infos = vector.step(np.zeros((3, 3)))
-    assert list(infos) == names  # one array per key, no per-env dicts, no "_key" masks
-    for name, values in infos.items():
+    # one array per key, in the core's order, and gymnasium's "_key" mask for each; no
+    # per-env dicts
+    assert [key for key in infos if not key.startswith("_")] == names
+    assert sorted(infos) == sorted([*names, *(f"_{name}" for name in names)])
+    for name in names:
+        values = infos[name]
+        assert infos[f"_{name}"].all()
         assert values.shape == (3,) and values.dtype == np.dtype(STEP_INFO[name][0]), name

@@ -18,7 +18,7 @@ from ray.rllib.core.columns import Columns
 from ray.rllib.env.env_context import EnvContext
 from ray.rllib.env.single_agent_env_runner import SingleAgentEnvRunner
 
-from agents.rllib.env import make_env, register
+from agents.rllib.env import make_env, register, spread_seeds
 from agents.rllib.module import CupboardSearchRLModule
 from agents.rllib.training import build_config, train_rllib
 from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS
@@ -43,14 +43,13 @@ def local_runners() -> Iterator[list[SingleAgentEnvRunner]]:
     for runner in runners:
         env = runner.env.unwrapped
         env.drawn = []
-        draw = env._seeds
+        layout = env._layout
 
-        def recording(count: int, env: Any = env, draw: Any = draw) -> list[int]:
-            seeds = draw(count)
-            env.drawn.extend(seeds)
-            return seeds
+        def recording(index: int, seed: Any, env: Any = env, layout: Any = layout) -> int:
+            env.drawn.append(layout(index, seed))
+            return env.drawn[-1]
 
-        env._seeds = recording
+        env._layout = recording
     yield runners
     for runner in runners:
         runner.stop()
@@ -65,7 +64,8 @@ def test_runners_draw_disjoint_training_layouts(local_runners: list[SingleAgentE
         # 16 steps of each of 3 envs with 8-step episodes: the first reset's 3 layouts and
         # at least 3 more at the autoresets.
         runner.sample(num_timesteps=48, random_actions=True)
-        assert env.np_random_seed == 5 + index  # the runner's reset seed: config.seed + w
+        # the runner's reset seed, config.seed + w, spread over its sub-envs
+        assert env.np_random_seed == tuple(spread_seeds(5 + index, 3))
         assert len(env.drawn) >= 6
         assert all(TRAIN_LAYOUT_SEEDS[0] <= s < TRAIN_LAYOUT_SEEDS[1] for s in env.drawn)
         assert len(set(env.drawn)) == len(env.drawn)  # no slot replays another's layout
@@ -75,10 +75,10 @@ def test_runners_draw_disjoint_training_layouts(local_runners: list[SingleAgentE
 
 def test_make_env_takes_settings_and_refuses_the_single_env_path() -> None:
     env = make_env(EnvContext({"map": "none", **TINY}, worker_index=1) | {"num_envs": 2})
-    assert isinstance(env, CupboardSearchVectorEnv)
+    assert isinstance(env.unwrapped, CupboardSearchVectorEnv)
     assert env.num_envs == 2
-    assert env.layout_seeds == TRAIN_LAYOUT_SEEDS
-    assert env.config.max_steps == 8
+    assert env.unwrapped.layout_seeds == TRAIN_LAYOUT_SEEDS
+    assert env.unwrapped.config.max_steps == 8
     # SYNC/ASYNC: RLlib calls the creator with the bare context (no num_envs).
     with pytest.raises(ValueError, match="VECTOR_ENTRY_POINT"):
         make_env(EnvContext({"map": "none"}, worker_index=1))

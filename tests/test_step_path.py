@@ -4,6 +4,8 @@ before any episode moves, with an error naming what was expected and what came."
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 
@@ -68,14 +70,19 @@ def test_reset_of_one_episode_rewrites_only_its_rows() -> None:
         (np.zeros((2, 4), dtype=np.float32), r"shape \(2, 3\), got shape \(2, 4\)"),
         ([[0, 0, 0], [0, np.nan, 0]], r"episode 1: action\[1\] must be finite, got NaN"),
         (np.array([[0, 0, 0], [np.inf, 0, 0]], np.float32), r"episode 1: action\[0\]"),
-        ("left", "numeric"),
         ([[0, 0, 0], "abc"], "numeric"),
+        ("left", TypeError),
+        (0.5, TypeError),
+        ({"dx": 0}, TypeError),
     ],
 )
-def test_bad_vector_actions_raise_before_any_episode_moves(actions: object, message: str) -> None:
+def test_bad_vector_actions_raise_before_any_episode_moves(actions: object, message: Any) -> None:
     vector = CupboardSearchVectorEnv(num_envs=2, map="none")
     vector.reset(seed=0)
-    with pytest.raises(ValueError, match=message):
+    error, message = (
+        (message, "actions must be an array") if message is TypeError else (ValueError, message)
+    )
+    with pytest.raises(error, match=message):
         vector.step(actions)
     _, _, _, _, info = vector.step(np.zeros((2, 3)))
     assert (info["steps"] == 1).all()  # the refused step moved nothing

@@ -14,16 +14,19 @@ reserves one CPU, so its env must not take more), drawing training layouts only
 
 Seeding contract (vector-entry-point mode):
 
-- Every layout of a runner's env is drawn by the vector env's one generator
-  (``np_random``): ``num_envs`` at the first reset, one at each autoreset, whichever slot
-  resets. Slots never share a stream, so no two slots replay each other's layouts.
-- That generator is seeded by the runner's first ``reset(seed=...)``, which RLlib makes
-  ``config.seed + worker_index`` (evaluation runners + 1e6): distinct for the runners of one
-  algorithm, so their layout streams are independent (two draws coincide with probability
-  about 2**-63). Later resets pass no seed. With ``config.seed=None`` the generator is seeded
-  from the OS. RLlib's offsets are additive, so runs seeded ``s`` and ``s + 1`` share
-  streams between runners (run ``s + 1``'s runner ``w`` is run ``s``'s runner ``w + 1``):
-  space independent runs' seeds by more than ``num_env_runners + 1``.
+- The vector env seeds each sub-env as gymnasium's ``SyncVectorEnv`` does (``seed + i``),
+  and each sub-env draws its layouts from its own generator. RLlib resets a runner's env
+  with ``config.seed + worker_index`` (evaluation runners + 1e6), so runner ``w``'s sub-env
+  ``i`` and runner ``w + 1``'s sub-env ``i - 1`` would share a seed and replay the same
+  layouts. ``make_env`` therefore wraps the env in ``RunnerSeeds``, which turns the runner's
+  seed into ``num_envs`` seeds spread by numpy's ``SeedSequence``: distinct runners' streams
+  are independent (two draws coincide with probability about 2**-63). Later resets pass
+  no seed. With ``config.seed=None`` the generators are seeded from the OS.
+- Every layout is a training layout: a spread seed is in ``TRAIN_LAYOUT_SEEDS`` or seeds
+  the draw from it (the vector env's ``layout_seeds`` rule).
+- RLlib's offsets are additive, so runs seeded ``s`` and ``s + 1`` share streams between
+  runners (run ``s + 1``'s runner ``w`` is run ``s``'s runner ``w + 1``): space independent
+  runs' seeds by more than ``num_env_runners + 1``.
 
 The single-env paths (``gym_env_vectorize_mode`` SYNC or ASYNC) are refused with a
 ``ValueError``. There RLlib builds every sub-env from the same context (``vector_index``
@@ -40,6 +43,9 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from typing import Any
+
+import numpy as np
+from gymnasium.vector import VectorWrapper
 
 from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS
 from tactile_search.envs.vector import CupboardSearchVectorEnv
@@ -58,7 +64,24 @@ VECTORIZE_HINT = (
 )
 
 
-def make_env(env_config: Mapping[str, Any]) -> CupboardSearchVectorEnv:
+class RunnerSeeds(VectorWrapper):
+    """A runner's vector env whose ``reset(seed=s)`` seeds its sub-envs with ``num_envs``
+    seeds spread from ``s`` by ``SeedSequence`` instead of ``s + i`` (see the module
+    docstring); a list of seeds or None passes through."""
+
+    def reset(self, *, seed: Any = None, options: dict[str, Any] | None = None) -> Any:
+        return self.env.reset(seed=spread_seeds(seed, self.num_envs), options=options)
+
+
+def spread_seeds(seed: Any, count: int) -> Any:
+    """``count`` independent seeds from an int ``seed``; anything else unchanged."""
+    if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
+        state = np.random.SeedSequence(int(seed)).generate_state(count, np.uint64)
+        return [int(value) for value in state]
+    return seed
+
+
+def make_env(env_config: Mapping[str, Any]) -> RunnerSeeds:
     """The vector env of one env runner from RLlib's env config (see the module docstring).
 
     Args:
@@ -90,8 +113,10 @@ def make_env(env_config: Mapping[str, Any]) -> CupboardSearchVectorEnv:
             f"env_config must hold only CupboardSearchConfig settings; {fixed} are set by "
             f"make_env (threads=1, layout_seeds={TRAIN_LAYOUT_SEEDS}, copy=True)"
         )
-    return CupboardSearchVectorEnv(
-        num_envs=num_envs, threads=1, layout_seeds=TRAIN_LAYOUT_SEEDS, **settings
+    return RunnerSeeds(
+        CupboardSearchVectorEnv(
+            num_envs=num_envs, threads=1, layout_seeds=TRAIN_LAYOUT_SEEDS, **settings
+        )
     )
 
 

@@ -485,7 +485,10 @@ class EpisodeBatch:
     def observe(self) -> tuple[NDArray[np.uint8] | None, NDArray[np.float32]]: ...
     def observation(self, index: int) -> dict[str, NDArray[Any]]: ...
     def step(
-        self, actions: Any, resets: list[tuple[int, int]] | None = None
+        self,
+        actions: Any,
+        resets: list[tuple[int, int]] | None = None,
+        holds: list[int] | None = None,
     ) -> tuple[
         NDArray[np.uint8] | None,
         NDArray[np.float32],

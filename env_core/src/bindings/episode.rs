@@ -218,16 +218,19 @@ impl PyEpisodeBatch {
     /// vector env's autoreset: reward 0, flags False, the reset's info). Returns (maps,
     /// proprio, rewards (N,), terminated (N,), truncated (N,), info): the batch's own arrays,
     /// written in place and overwritten by the next step or reset; info is a dict of one
-    /// array (N,) per key of `step_info_fields()`. Raises `ValueError` for actions of the
-    /// wrong shape or not finite (before any episode moves) and names the episode of a
-    /// failed step (a step after termination).
+    /// array (N,) per key of `step_info_fields()`. The episodes of `holds` (a list of
+    /// indices) are left untouched, their action ignored (a pickled vector env replaying
+    /// its episodes). Raises `ValueError` for actions of the wrong shape or not finite
+    /// (before any episode moves) and names the episode of a failed step (a step after
+    /// termination).
     #[allow(clippy::type_complexity)]
-    #[pyo3(signature = (actions, resets = None))]
+    #[pyo3(signature = (actions, resets = None, holds = None))]
     fn step<'py>(
         &self,
         py: Python<'py>,
         actions: &Bound<'py, PyAny>,
         resets: Option<&Bound<'py, PyAny>>,
+        holds: Option<Vec<usize>>,
     ) -> PyResult<(
         Option<Bound<'py, PyAny>>,
         Bound<'py, PyAny>,
@@ -244,6 +247,9 @@ impl PyEpisodeBatch {
         let mut state = self.state.lock()?;
         if let Some(resets) = resets {
             state.set_resets(&mut commands, resets)?;
+        }
+        for index in holds.unwrap_or_default() {
+            commands[state.episode_index(index)?] = Command::Hold;
         }
         state.run(py, &commands, None)?;
         let (maps, proprio) = state.arrays.observation(py);

@@ -145,7 +145,11 @@ class CupboardSearchEnv(gym.Env, EzPickle):
 
     ## Version History
     - v0: first release. The ``probe`` action mode is an option (``action_mode``); the
-      default ``wrist`` mode is v0's behaviour, unchanged.
+      default ``wrist`` mode is v0's behaviour, unchanged. The vector env
+      (``vector_entry_point``) now seeds as gymnasium's ``SyncVectorEnv`` does (sub-env
+      ``i`` as ``reset(seed=seed + i)``, each with its own generator; before, one batch
+      generator drew every layout) and its info carries the ``_key`` masks; the single
+      env's episodes are unchanged.
     """
 
     metadata: ClassVar[dict[str, Any]] = {"render_modes": ["rgb_array"], "render_fps": 10}

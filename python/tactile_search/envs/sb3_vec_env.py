@@ -9,12 +9,16 @@ This adapter gives the batch exactly those semantics, so SB3 trains on all cores
 The time limit is the core's (``max_steps``). The core writes each step's results into
 arrays allocated once per batch; this adapter copies the observation once per step (SB3
 keeps the previous step's observation while it takes the next) and builds SB3's per-env
-info dicts in Rust. Needs the ``agents`` extra (stable-baselines3).
+info dicts in Rust. ``render_mode="rgb_array"`` renders each episode's frame (SB3 tiles
+them; ``VecVideoRecorder`` records them). ``get_attr`` and ``env_method`` reach each
+episode as SB3 reaches a sub-env: ``env_method("reset", indices=[1])`` resets episode 1
+alone. The env pickles with its settings, generator and episodes so far. Needs the
+``agents`` extra (stable-baselines3).
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -25,8 +29,13 @@ from tactile_search.envs.config import (
     checked_layout_seeds,
     with_settings_signature,
 )
-from tactile_search.envs.cupboard_search import action_space, observation_space
-from tactile_search.envs.vector import observation_dict
+from tactile_search.envs.cupboard_search import (
+    CupboardSearchEnv,
+    action_space,
+    observation_space,
+)
+from tactile_search.envs.episode_log import EpisodeLog
+from tactile_search.envs.vector import episode_frame, observation_dict
 
 
 class CupboardSearchSb3VecEnv(VecEnv):
@@ -39,6 +48,8 @@ class CupboardSearchSb3VecEnv(VecEnv):
             out of the ranges evaluation holds out: ``tactile_search.seed_ranges.TRAINING``,
             as ``agents.train`` does).
         threads: worker threads (default: every core).
+        render_mode: ``None`` or ``"rgb_array"`` (``get_images()`` returns each episode's
+            frame: the scene from above beside its map).
         **kwargs: the fields of ``CupboardSearchConfig`` (``max_steps`` is the time limit).
     """
 
@@ -48,15 +59,27 @@ class CupboardSearchSb3VecEnv(VecEnv):
         seed: int | None = None,
         layout_seeds: tuple[int, int] = (0, 2**63),
         threads: int | None = None,
+        render_mode: str | None = None,
         **kwargs: Any,
     ) -> None:
-        if not isinstance(num_envs, int) or num_envs < 1:
+        if isinstance(num_envs, bool) or not isinstance(num_envs, int) or num_envs < 1:
             raise ValueError(f"num_envs must be a positive int, got {num_envs!r}")
+        if render_mode not in (None, *CupboardSearchEnv.metadata["render_modes"]):
+            raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
+        self._arguments = {
+            "num_envs": num_envs, "seed": seed, "layout_seeds": layout_seeds,
+            "threads": threads, "render_mode": render_mode, **kwargs,
+        }  # fmt: skip
         self.layout_seeds = checked_layout_seeds(layout_seeds)
         self.config = CupboardSearchConfig(**kwargs)
         self._rng = np.random.default_rng(seed)
-        self._batch = self.config.make_batch(self._new_seeds(num_envs), threads=threads)
-        self.render_mode = None
+        seeds = self._new_seeds(num_envs)
+        self._batch = self.config.make_batch(seeds, threads=threads)
+        probe = self._batch.probe_counts is not None
+        self._log = EpisodeLog(num_envs, np.int64 if probe else np.float64)
+        self._log.began(list(enumerate(seeds)))
+        self.render_mode = render_mode
+        self._sub_envs = [EpisodeView(self, index) for index in range(num_envs)]
         super().__init__(
             num_envs,
             observation_space(self.config, self._batch.proprio_len),
@@ -73,8 +96,13 @@ class CupboardSearchSb3VecEnv(VecEnv):
         return [seed] * self.num_envs
 
     def reset(self) -> dict[str, np.ndarray]:
-        self._batch.reset_many(list(enumerate(self._new_seeds(self.num_envs))))
+        self._reset_episodes(list(enumerate(self._new_seeds(self.num_envs))))
         return self._observation()
+
+    def _reset_episodes(self, resets: list[tuple[int, int]]) -> None:
+        """Episodes ``i`` begin anew on layouts ``seed`` (``(i, seed)`` pairs)."""
+        self._batch.reset_many(resets)
+        self._log.began(resets)
 
     def _observation(self) -> dict[str, np.ndarray]:
         """A copy of the batch's observation arrays (the batch overwrites its own)."""
@@ -85,6 +113,7 @@ class CupboardSearchSb3VecEnv(VecEnv):
 
     def step_wait(self) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, list[dict]]:
         maps, proprio, rewards, terminated, truncated, _ = self._batch.step(self._actions)
+        self._log.stepped(self._actions)
         dones = terminated | truncated
         rewards = rewards.astype(np.float32)
         infos = self._batch.infos()
@@ -99,30 +128,97 @@ class CupboardSearchSb3VecEnv(VecEnv):
                 info["terminal_observation"] = terminal
                 info["TimeLimit.truncated"] = info["truncated"]
                 info["is_success"] = info["success"]
-            self._batch.reset_many([(index, self._new_seeds(1)[0]) for index in ended])
+            self._reset_episodes([(index, self._new_seeds(1)[0]) for index in ended])
         return self._observation(), rewards, dones, infos
 
     def close(self) -> None:
         pass
 
+    # ---- render ------------------------------------------------------------------------
+    def get_images(self) -> Sequence[np.ndarray | None]:
+        """Each episode's frame in the ``rgb_array`` mode (SB3's ``render()`` tiles them)."""
+        return [sub_env.render() for sub_env in self._sub_envs]
+
+    # ---- the sub-envs, as SB3 reaches them -----------------------------------------------
     def get_attr(self, attr_name: str, indices: Any = None) -> list[Any]:
-        return [getattr(self, attr_name) for _ in self._indices(indices)]
+        return [getattr(self._sub_envs[i], attr_name) for i in self._indices(indices)]
 
     def set_attr(self, attr_name: str, value: Any, indices: Any = None) -> None:
+        chosen = sorted(set(self._indices(indices)))
+        if chosen != list(range(self.num_envs)):
+            raise ValueError(
+                f"set_attr({attr_name!r}) must set every episode (indices=None): the "
+                f"episodes share their settings, got indices {chosen}"
+            )
         setattr(self, attr_name, value)
 
     def env_method(self, method_name: str, *args: Any, indices: Any = None, **kw: Any) -> list:
-        return [getattr(self, method_name)(*args, **kw) for _ in self._indices(indices)]
+        return [
+            getattr(self._sub_envs[i], method_name)(*args, **kw) for i in self._indices(indices)
+        ]
 
     def env_is_wrapped(self, wrapper_class: type, indices: Any = None) -> list[bool]:
         return [False for _ in self._indices(indices)]
 
-    def _indices(self, indices: Any) -> Iterable[int]:
-        if indices is None:
-            return range(self.num_envs)
-        if isinstance(indices, int):
-            return [indices]
-        return indices
+    def _indices(self, indices: Any) -> list[int]:
+        chosen = list(self._get_indices(indices))
+        for index in chosen:
+            if isinstance(index, bool) or not isinstance(index, int | np.integer):
+                raise TypeError(f"indices must be ints, got {index!r}")
+            if not 0 <= index < self.num_envs:
+                raise ValueError(f"indices must be 0 to {self.num_envs - 1}, got {index}")
+        return [int(index) for index in chosen]
+
+    # ---- pickling ----------------------------------------------------------------------
+    def __getstate__(self) -> dict[str, Any]:
+        return {"arguments": self._arguments, "rng": self._rng, "log": self._log}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__init__(**state["arguments"])  # type: ignore[misc]
+        self._rng = state["rng"]
+        self._log = state["log"]
+        self._log.replay(self._batch)
+
+
+class EpisodeView:
+    """Episode ``index`` of a ``CupboardSearchSb3VecEnv`` as ``get_attr`` and ``env_method``
+    reach a sub-env: its own ``reset`` and ``render``; every other attribute is the
+    batch's, shared by all its episodes (settings, spaces, ``render_mode``)."""
+
+    def __init__(self, vec_env: CupboardSearchSb3VecEnv, index: int) -> None:
+        self._vec_env = vec_env
+        self.index = index
+
+    @property
+    def layout_seed(self) -> int | None:
+        """The seed of the layout this episode plays."""
+        return self._vec_env._log.seeds[self.index]
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+        """Begins this episode anew, on layout ``seed`` (else one drawn as ``reset`` draws)
+        and returns its first observation and info, as a gymnasium env's ``reset`` does."""
+        if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int)):
+            raise TypeError(f"seed must be an int or None, got {type(seed).__name__}")
+        vec_env = self._vec_env
+        layout = vec_env._new_seeds(1)[0] if seed is None else seed
+        vec_env._reset_episodes([(self.index, layout)])
+        observation = vec_env._observation()
+        row = {key: value[self.index] for key, value in observation.items()}
+        return row, vec_env._batch.infos()[self.index]
+
+    def render(self) -> np.ndarray | None:
+        """This episode's frame in the ``rgb_array`` mode; None without a render mode."""
+        vec_env = self._vec_env
+        if vec_env.render_mode is None:
+            return None
+        return episode_frame(vec_env._batch, vec_env.config.map, self.index)
+
+    def __getattr__(self, name: str) -> Any:
+        if name == "_vec_env":  # not yet set (a copy being built)
+            raise AttributeError(name)
+        return getattr(self._vec_env, name)
 
 
 with_settings_signature(CupboardSearchSb3VecEnv.__init__)
