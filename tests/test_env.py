@@ -32,7 +32,8 @@ def test_stable_baselines3_env_checker_passes(mode: str) -> None:
 
 def test_registered_without_a_second_time_limit() -> None:
     env = gym.make(ENV_ID)
-    assert env.spec.max_episode_steps is None  # the episode's max_steps is the only one
+    assert gym.spec(ENV_ID).max_episode_steps is None  # make adds no TimeLimit wrapper
+    assert env.spec.max_episode_steps == env.unwrapped.config.max_steps  # the one limit
     obs, _ = env.reset(seed=0)
     assert obs["map"].shape == (2, 40, 80) and obs["map"].dtype == np.uint8
     assert obs["proprio"].shape == (11,) and obs["proprio"].dtype == np.float32
@@ -143,13 +144,17 @@ def test_the_oracle_solves_at_least_95_percent_of_100_seeds_without_tipping() ->
     [
         ({"map": "voxels"}, ValueError, "map must be one of"),
         ({"grid_shape": (40, 60)}, ValueError, "square cells"),
-        ({"grid_shape": (20, 40)}, ValueError, r"grid_shape must be in \[36"),
+        ({"grid_shape": (20, 40)}, ValueError, r"grid_shape must be an int from 36 to \d+, got 20"),
         ({"grid_shape": 40}, TypeError, "grid_shape must be a pair of ints"),
-        ({"reward_step_cost": -1.0}, ValueError, r"reward_step_cost must be in \[0, inf\)"),
+        ({"reward_step_cost": -1.0}, ValueError, r"reward_step_cost must be >= 0, got -1"),
         ({"prior_mean": float("nan")}, ValueError, "prior_mean must be finite"),
-        ({"finger_stiffness": 0}, ValueError, r"finger_stiffness must be in \[0.000001, "),
+        (
+            {"finger_stiffness": 0},
+            ValueError,
+            r"finger_stiffness must be from 0.000001 to 1000000, got 0",
+        ),
         ({"depth_noise_std": "big"}, TypeError, "depth_noise_std must be a float"),
-        ({"max_steps": 0}, ValueError, r"max_steps must be in \[1, inf\)"),
+        ({"max_steps": 0}, ValueError, r"max_steps must be an int >= 1, got 0"),
         ({"no_such_key": 1}, TypeError, "no_such_key"),
         ({"render_mode": "human"}, ValueError, "render_mode"),
     ],
@@ -260,3 +265,25 @@ def test_vector_env_seed_outside_a_narrow_layout_range_seeds_the_draw() -> None:
 def test_vector_env_refuses_a_bad_layout_range(layout_seeds, error) -> None:
     with pytest.raises(error, match="layout_seeds"):
         CupboardSearchVectorEnv(num_envs=1, map="none", layout_seeds=layout_seeds)
+
+
+def test_a_raw_env_stepped_before_reset_raises() -> None:
+    from gymnasium.error import ResetNeeded
+
+    env = CupboardSearchEnv()
+    with pytest.raises(ResetNeeded, match="call reset"):
+        env.step(np.zeros(3))
+    env.reset(seed=0)
+    env.step(np.zeros(3))
+
+
+def test_the_sb3_vec_env_without_sb3_names_the_extra(monkeypatch: pytest.MonkeyPatch) -> None:
+    import importlib
+    import sys
+
+    for name in [m for m in sys.modules if m.split(".")[0] == "stable_baselines3"]:
+        monkeypatch.setitem(sys.modules, name, None)  # as if not installed
+    monkeypatch.setitem(sys.modules, "stable_baselines3", None)
+    monkeypatch.delitem(sys.modules, "tactile_search.envs.sb3_vec_env", raising=False)
+    with pytest.raises(ModuleNotFoundError, match=r"pip install 'tactile_search\[agents\]'"):
+        importlib.import_module("tactile_search.envs.sb3_vec_env")

@@ -78,10 +78,10 @@ def test_the_vector_envs_step_probe_batches() -> None:
 @pytest.mark.parametrize(
     ("action", "message"),
     [
-        (np.array([29, 0, 0]), r"action\[0\] must be an integer in 0..29"),
-        (np.array([0, 10, 0]), r"action\[1\] must be an integer in 0..10"),
-        (np.array([0.0, 1.5, 0.0]), r"action\[1\] must be an integer in 0..10"),
-        (np.array([0, 0, -1]), r"action\[2\] must be an integer in 0..9"),
+        (np.array([29, 0, 0]), r"action\[0\] must be an integer from 0 to 28"),
+        (np.array([0, 10, 0]), r"action\[1\] must be an integer from 0 to 9"),
+        (np.array([0.0, 1.5, 0.0]), r"action\[1\] must be an integer from 0 to 9"),
+        (np.array([0, 0, -1]), r"action\[2\] must be an integer from 0 to 8"),
         (np.array([1, 2]), "shape"),
     ],
 )

@@ -13,7 +13,7 @@ from pathlib import Path
 import gymnasium as gym
 import pytest
 
-from tactile_search import CupboardSearchEnv, _core
+from tactile_search import CupboardSearchEnv, CupboardSearchVectorEnv, _core
 from tactile_search.envs import CupboardSearchConfig
 
 EPISODE_SETTINGS = list(_core.EpisodeBatch.settings())
@@ -111,8 +111,47 @@ def test_every_setting_refuses_a_value_out_of_range_naming_key_and_range(setting
     value = _with_number(setting["default"], float("nan") if bad is None else bad)
     with pytest.raises(ValueError, match=f"^{setting['key']} must be") as error:
         CupboardSearchConfig(**{setting["key"]: value})
-    expected = "finite" if bad is None else f"in {setting['range']}"
+    expected = "finite" if bad is None else _in_words(setting["range"])
     assert expected in str(error.value)
+
+
+def _in_words(text: str) -> str:
+    """The rule of an interval written like ``[1, inf)`` in the words errors use: ``>= 1``,
+    ``> 0``, ``from 0 to 1``, ``> 0 and <= 100``."""
+    low, high = (end.strip() for end in text[1:-1].split(","))
+    lower = None if low == "-inf" else (">=" if text[0] == "[" else ">", low)
+    upper = None if high == "inf" else ("<=" if text[-1] == "]" else "<", high)
+    if lower and upper and lower[0] == ">=" and upper[0] == "<=":
+        return f"from {low} to {high}"
+    return " and ".join(f"{bound[0]} {bound[1]}" for bound in (lower, upper) if bound)
+
+
+def test_a_count_of_the_wrong_type_states_the_rule_as_one_out_of_range_does() -> None:
+    with pytest.raises(TypeError, match=r"^max_steps must be an int >= 1, got 10.0"):
+        CupboardSearchEnv(max_steps=10.0)
+    with pytest.raises(ValueError, match=r"^max_steps must be an int >= 1, got 0"):
+        CupboardSearchEnv(max_steps=0)
+    with pytest.raises(ValueError, match=r"^max_steps must be an int >= 1, got -3"):
+        CupboardSearchEnv(max_steps=-3)
+
+
+@pytest.mark.parametrize(
+    "make",
+    [
+        CupboardSearchEnv,
+        lambda **kw: CupboardSearchVectorEnv(num_envs=2, **kw),
+        lambda **kw: gym.make("tactile_search/CupboardSearch-v0", **kw),
+    ],
+)
+def test_an_unknown_keyword_names_the_env_and_the_closest_settings(make: object) -> None:
+    with pytest.raises(TypeError) as error:
+        make(max_step=5)  # type: ignore[operator]
+    message = str(error.value)
+    assert "got an unexpected keyword argument 'max_step'" in message
+    assert "did you mean 'max_steps'" in message
+    assert "CupboardSearchConfig" not in message
+    with pytest.raises(TypeError, match=r"the settings are max_steps, \w+, \w+"):
+        make(zzzzzz=1)  # type: ignore[operator]
 
 
 def test_gym_make_takes_every_setting_by_keyword() -> None:
@@ -133,3 +172,19 @@ def test_the_committed_stub_is_generated_from_the_core() -> None:
     stub = (ROOT / "python" / "tactile_search" / "_core.pyi").read_text()
     for s in EPISODE_SETTINGS:
         assert f"    {s['key']}: " in stub
+
+
+def test_a_fresh_interpreter_makes_the_env_by_the_id_that_names_its_module() -> None:
+    script = (
+        "import sys, gymnasium as gym\n"
+        "env = gym.make('tactile_search:tactile_search/CupboardSearch-v0', max_steps=5)\n"
+        "env.reset(seed=0)\n"
+        "assert 'tactile_search' in sys.modules\n"
+        "vec = gym.make_vec('tactile_search:tactile_search/CupboardSearch-v0', num_envs=2,\n"
+        "                   vectorization_mode='vector_entry_point')\n"
+        "vec.reset(seed=0)\n"
+        "print('made')\n"
+    )
+    result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == "made"

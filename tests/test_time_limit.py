@@ -1,5 +1,6 @@
 """The time limit has one source: the episode's ``max_steps``, reported by the core as
-``truncated``; what ``gymnasium.make(..., max_steps=N)`` says is what truncates."""
+``truncated``; what ``gymnasium.make(..., max_steps=N)`` says is what truncates, and the made
+env's ``spec.max_episode_steps`` declares it, with no second limit (no ``TimeLimit``)."""
 
 from __future__ import annotations
 
@@ -21,7 +22,8 @@ def test_gym_make_max_steps_is_what_truncates_the_single_env(max_steps: int) -> 
         # A still hand touches nothing, so only the time limit can end the episode.
         _, _, terminated, truncated, info = env.step(np.zeros(3))
         assert not terminated
-        assert truncated == (step == max_steps) == info["truncated"], step
+        assert truncated == (step == max_steps), step
+        assert "truncated" not in info  # the step's own flag, not repeated in the info
     env.close()
 
 
@@ -51,7 +53,7 @@ def test_make_vec_max_steps_is_what_truncates_the_vector_env(max_steps: int) -> 
     for step in range(1, max_steps + 1):
         _, _, terminated, truncated, info = vector.step(np.zeros((3, 3)))
         assert not terminated.any()
-        assert (truncated == (step == max_steps)).all() and (info["truncated"] == truncated).all()
+        assert (truncated == (step == max_steps)).all() and "truncated" not in info
     _, rewards, _, truncated, info = vector.step(np.zeros((3, 3)))  # the autoreset step
     assert not truncated.any() and (info["steps"] == 0).all() and (rewards == 0).all()
 
@@ -66,3 +68,33 @@ def test_the_sb3_vec_env_truncates_at_max_steps() -> None:
         _, _, dones, infos = env.step(np.zeros((2, 3)))
         assert dones.all() == (step == 4) and dones.any() == (step == 4)
     assert all(info["TimeLimit.truncated"] and info["steps"] == 4 for info in infos)
+
+
+@pytest.mark.parametrize("max_steps", [None, 7])
+def test_the_made_envs_spec_declares_the_episodes_limit_and_adds_no_second_one(
+    max_steps: int | None,
+) -> None:
+    settings = {} if max_steps is None else {"max_steps": max_steps}
+    expected = max_steps or _core.EpisodeBatch.resolve_settings()["max_steps"]
+    env = gym.make(ENV_ID, map="none", **settings)
+    assert env.spec.max_episode_steps == env.unwrapped.spec.max_episode_steps == expected
+    assert gym.spec(ENV_ID).max_episode_steps is None  # so make adds no TimeLimit
+    wrapper = env
+    while isinstance(wrapper, gym.Wrapper):
+        assert not isinstance(wrapper, gym.wrappers.TimeLimit)
+        wrapper = wrapper.env
+    vector = gym.make_vec(
+        ENV_ID, num_envs=2, vectorization_mode="vector_entry_point", map="none", **settings
+    )
+    assert vector.spec.max_episode_steps == expected
+
+
+def test_time_aware_observation_reads_the_declared_limit() -> None:
+    env = gym.wrappers.TimeAwareObservation(
+        gym.make(ENV_ID, map="none", max_steps=4), flatten=False, normalize_time=True
+    )
+    obs, _ = env.reset(seed=0)
+    assert env.max_timesteps == 4 and float(np.asarray(obs["time"]).item()) == 0.0
+    for _ in range(4):
+        obs, _, _, truncated, _ = env.step(np.zeros(3))
+    assert truncated and float(np.asarray(obs["time"]).item()) == 1.0

@@ -158,9 +158,12 @@ fn probe_indices_out_of_their_counts_move_no_episode_of_a_batch() {
         EpisodeBatch::new(config(MapMode::None, ActionMode::Probe), &[1, 2], Some(2)).unwrap();
     let mut proprio = vec![0f32; 2 * PROPRIO_LEN];
     for (bad, message) in [
-        ([3.0, 29.0, 0.0], "action[1] must be an integer in 0..10"),
-        ([3.0, 1.0, 0.5], "action[2] must be an integer in 0..9"),
-        ([-1.0, 1.0, 0.0], "action[0] must be an integer in 0..29"),
+        ([3.0, 29.0, 0.0], "action[1] must be an integer from 0 to 9"),
+        ([3.0, 1.0, 0.5], "action[2] must be an integer from 0 to 8"),
+        (
+            [-1.0, 1.0, 0.0],
+            "action[0] must be an integer from 0 to 28",
+        ),
     ] {
         let commands = [Command::Step([14.0, 5.0, 4.0]), Command::Step(bad)];
         let error = batch.run(&commands, &mut [], &mut proprio).unwrap_err();

@@ -24,12 +24,12 @@ fn bad_configs_are_refused_with_the_users_key_in_the_message() {
     c.layout.jar_count = [3, 8];
     assert!(error_of(c)
         .to_string()
-        .contains("jar_count must be in [1, 7]"));
+        .contains("jar_count must be an int from 1 to 7"));
     let mut c = SceneConfig::default();
     c.camera.noise_std = -1.0;
     assert!(error_of(c)
         .to_string()
-        .starts_with("depth_noise_std must be in [0, 100]"));
+        .starts_with("depth_noise_std must be from 0 to 100"));
     let mut c = SceneConfig::default();
     c.hand.finger_stiffness = f64::NAN;
     assert!(matches!(
@@ -49,7 +49,7 @@ fn bad_configs_are_refused_with_the_users_key_in_the_message() {
     c.camera.image_width = 0;
     assert!(error_of(c)
         .to_string()
-        .starts_with("camera_width must be in [1, 4096]"));
+        .starts_with("camera_width must be an int from 1 to 4096"));
     let mut c = SceneConfig::default();
     c.hand.start = [0.29, 0.1, 0.0];
     assert!(matches!(error_of(c), SceneError::HandStartBlocked { .. }));

@@ -15,9 +15,11 @@ ENV_ID = "tactile_search/CupboardSearch-v0"
 
 __all__ = ["ENV_ID", "CupboardSearchEnv", "CupboardSearchVectorEnv", "Gpis", "__version__"]
 
-# No max_episode_steps: the time limit is the episode's own `max_steps` (default from the
-# core), reported by the core as `truncated`, so `gymnasium.make(..., max_steps=N)` truncates
-# at N in the single and the vector envs alike; a registered limit would be a second one.
+# No max_episode_steps here: the time limit is the episode's own `max_steps` (default from
+# the core), reported by the core as `truncated`, so `gymnasium.make(..., max_steps=N)`
+# truncates at N in the single and the vector envs alike; a registered limit would make
+# `make` add a TimeLimit wrapper, a second limit. Each made env declares its limit in its
+# own spec (`spec.max_episode_steps == max_steps`, tactile_search/envs/time_limit.py).
 if ENV_ID not in gymnasium.registry:
     gymnasium.register(
         id=ENV_ID,

@@ -13,7 +13,7 @@ pub(crate) fn seed_of(seed: &Bound<'_, PyAny>) -> PyResult<u64> {
         return Err(wrong_type("seed", "an int", seed));
     }
     seed.extract::<u64>()
-        .map_err(|_| wrong_value("seed", "an int in [0, 2**64)", seed))
+        .map_err(|_| wrong_value("seed", "an int from 0 to 2**64 - 1", seed))
 }
 
 /// An (rows, cols) float64 array owning `flat` (row-major).

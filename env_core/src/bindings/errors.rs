@@ -104,7 +104,10 @@ pub(crate) fn wrong_value(what: &str, expected: &str, got: impl std::fmt::Displa
 
 /// An `IndexError` for an episode index outside the batch.
 pub(crate) fn episode_index_error(index: usize, len: usize) -> PyErr {
-    PyIndexError::new_err(format!("episode index must be in [0, {len}), got {index}"))
+    PyIndexError::new_err(format!(
+        "episode index must be from 0 to {}, got {index}",
+        len.saturating_sub(1)
+    ))
 }
 
 /// A shape as Python writes it: `(3,)`, `(4, 3)`.

@@ -28,8 +28,8 @@ pub enum EpisodeError {
     },
     /// A `probe` mode action component is not an index within its count.
     #[error(
-        "action[{index}] must be an integer in 0..{count} (the probe action mode's \
-         [lane, depth, sweep] indices), got {value}"
+        "action[{index}] must be an integer from 0 to {} (the probe action mode's \
+         [lane, depth, sweep] indices), got {value}", count.saturating_sub(1)
     )]
     ProbeIndex {
         /// Component index (0 = lane, 1 = depth, 2 = sweep).

@@ -156,7 +156,6 @@ info_fields! {
     clipped: Flag, "the action was outside [-1, 1] and was clipped";
     blocked: Flag, "a wall or the workspace edge stopped the hand";
     motions: Count, "wrist motions this step (1 in the wrist action mode, a probe's in the probe mode)";
-    truncated: Flag, "the time limit ended the episode (steps >= max_steps, not terminated)";
 }
 
 /// Number of info fields of each type: (floats, flags, counts).

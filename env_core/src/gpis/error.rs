@@ -92,7 +92,7 @@ pub enum GpisError {
     },
     /// A point lies outside the map's bounds, where the kernel is not a covariance.
     #[error(
-        "points[{index}] = ({x}, {y}) lies outside the map bounds x in [{x0}, {x1}], y in [{y0}, {y1}]"
+        "points[{index}] = ({x}, {y}) lies outside the map bounds: x from {x0} to {x1}, y from {y0} to {y1}"
     )]
     PointOutsideBounds {
         /// Index of the offending point.

@@ -287,7 +287,7 @@ fn check_scene(c: &SceneConfig) -> Result<(), SettingError> {
         return Err(SettingError::out_of_range(
             "slice_height",
             format!(
-                "in ({hand_half_height}, cupboard_height - {hand_half_height}) so the hand \
+                "> {hand_half_height} and < cupboard_height - {hand_half_height} so the hand \
                  (half height {hand_half_height}) clears the floor and the top"
             ),
             slice,

@@ -281,7 +281,7 @@ impl Layout {
                 || jar.y + e > cupboard.depth()
             {
                 return bad(format!(
-                    "jar {i} at ({}, {}) must lie inside the interior x in [{}, {}], y in [0, {}]",
+                    "jar {i} at ({}, {}) must lie inside the interior: x from {} to {}, y from 0 to {}",
                     jar.x,
                     jar.y,
                     -half_w,

@@ -21,7 +21,7 @@ pub enum SettingError {
         /// The setting.
         key: &'static str,
         /// The type expected, in Python's terms.
-        expected: &'static str,
+        expected: String,
         /// The value given.
         got: String,
     },
@@ -39,6 +39,24 @@ pub enum SettingError {
 }
 
 impl SettingError {
+    /// This error with `rule` as what was expected (a type's rule that includes its range,
+    /// see `SettingType::rule`); unchanged when `rule` is None or the key is unknown.
+    pub fn with_rule(self, rule: Option<String>) -> Self {
+        match (self, rule) {
+            (Self::WrongType { key, got, .. }, Some(rule)) => Self::WrongType {
+                key,
+                expected: rule,
+                got,
+            },
+            (Self::OutOfRange { key, got, .. }, Some(rule)) => Self::OutOfRange {
+                key,
+                expected: rule,
+                got,
+            },
+            (error, _) => error,
+        }
+    }
+
     /// An [`SettingError::OutOfRange`] for `key`.
     pub fn out_of_range(
         key: &'static str,

@@ -61,7 +61,8 @@ impl<C: 'static> Setting<C> {
             range,
             get: Box::new(move |c| field(c).to_value()),
             set: Box::new(move |c, value| {
-                *field_mut(c) = T::from_value(key, value)?;
+                *field_mut(c) =
+                    T::from_value(key, value).map_err(|e| e.with_rule(T::rule(&range)))?;
                 Ok(())
             }),
             check: Box::new(move |c| field(c).check(key, &range)),

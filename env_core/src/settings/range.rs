@@ -85,6 +85,29 @@ impl Range {
     }
 }
 
+impl Range {
+    /// The rule in Python's words, for error messages: `>= 1`, `> 0`, `from 0 to 1`,
+    /// `> 0 and <= 100`, `finite`.
+    pub fn words(&self) -> String {
+        let low = match self.low {
+            Limit::Unbounded => None,
+            Limit::Closed(v) => Some((">=", v)),
+            Limit::Open(v) => Some((">", v)),
+        };
+        let high = match self.high {
+            Limit::Unbounded => None,
+            Limit::Closed(v) => Some(("<=", v)),
+            Limit::Open(v) => Some(("<", v)),
+        };
+        match (low, high) {
+            (None, None) => "finite".to_string(),
+            (Some((op, v)), None) | (None, Some((op, v))) => format!("{op} {v}"),
+            (Some((">=", a)), Some(("<=", b))) => format!("from {a} to {b}"),
+            (Some((lo, a)), Some((hi, b))) => format!("{lo} {a} and {hi} {b}"),
+        }
+    }
+}
+
 impl fmt::Display for Range {
     /// Interval notation, e.g. `(0, inf)` or `[0, 1]`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

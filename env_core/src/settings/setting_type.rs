@@ -28,12 +28,19 @@ pub trait SettingType: Sized {
     fn choices() -> &'static [&'static str] {
         &[]
     }
+
+    /// What a value must be, type and range in one phrase, where the range is part of the
+    /// type's rule (`an int >= 1` for a count): the message of a value of the wrong type as
+    /// of one out of range, so that `10.0` and `0` for a count both state the rule.
+    fn rule(_range: &Range) -> Option<String> {
+        None
+    }
 }
 
 fn wrong_type<T: SettingType>(key: &'static str, value: &SettingValue) -> SettingError {
     SettingError::WrongType {
         key,
-        expected: T::EXPECTED,
+        expected: T::EXPECTED.to_string(),
         got: value.to_string(),
     }
 }
@@ -50,7 +57,7 @@ fn in_range(key: &'static str, range: &Range, value: f64) -> Result<(), SettingE
     } else {
         Err(SettingError::out_of_range(
             key,
-            format!("in {range}"),
+            range.words(),
             SettingValue::Float(value),
         ))
     }
@@ -131,6 +138,10 @@ impl SettingType for usize {
     const ANNOTATION: &'static str = "int";
     const EXPECTED: &'static str = "a non-negative int";
 
+    fn rule(range: &Range) -> Option<String> {
+        Some(format!("an int {}", range.words()))
+    }
+
     fn from_value(key: &'static str, value: &SettingValue) -> Result<Self, SettingError> {
         match value {
             SettingValue::Int(v) if *v < 0 => {
@@ -150,7 +161,7 @@ impl SettingType for usize {
         } else {
             Err(SettingError::out_of_range(
                 key,
-                format!("in {range}"),
+                format!("an int {}", range.words()),
                 self.to_value(),
             ))
         }

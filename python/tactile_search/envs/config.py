@@ -11,6 +11,7 @@ type, ``ValueError`` for a value out of range, each naming the key).
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import inspect
 import operator
 from collections.abc import Callable, Iterable
@@ -91,6 +92,23 @@ CupboardSearchConfig = dataclasses.make_dataclass(
 )
 
 
+def config_for(owner: str, settings: dict[str, Any]) -> Any:
+    """``CupboardSearchConfig(**settings)`` for the class the user made (``owner``): a
+    keyword that is no setting is a ``TypeError`` naming ``owner`` and the closest
+    settings, not the config class the user never named."""
+    known = [s["key"] for s in SETTINGS]
+    for key in settings:
+        if key not in known:
+            close = difflib.get_close_matches(key, known, n=3)
+            hint = (
+                f"did you mean {' or '.join(repr(c) for c in close)}?"
+                if close
+                else f"the settings are {', '.join(known)}"
+            )
+            raise TypeError(f"{owner}() got an unexpected keyword argument {key!r}; {hint}")
+    return CupboardSearchConfig(**settings)
+
+
 def checked_layout_seeds(layout_seeds: Any) -> tuple[int, int]:
     """``layout_seeds`` as ``(low, high)`` ints: the range ``[low, high)`` within
     ``[0, 2**64)`` that a vector env draws its episodes' layout seeds from."""
@@ -101,7 +119,9 @@ def checked_layout_seeds(layout_seeds: Any) -> tuple[int, int]:
             f"layout_seeds must be a pair of ints (low, high), got {layout_seeds!r}"
         ) from None
     if not 0 <= low < high <= 2**64:
-        raise ValueError(f"layout_seeds must be [low, high) within [0, 2**64), got {layout_seeds}")
+        raise ValueError(
+            f"layout_seeds must be (low, high) with 0 <= low < high <= 2**64, got {layout_seeds}"
+        )
     return low, high
 
 

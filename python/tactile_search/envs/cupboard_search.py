@@ -7,13 +7,16 @@ from typing import Any, ClassVar
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
+from gymnasium.error import ResetNeeded
 from gymnasium.utils import EzPickle
 
 from tactile_search.envs.config import (
     CupboardSearchConfig,
+    config_for,
     with_settings_signature,
 )
 from tactile_search.envs.observation import MAP_CHANNELS, fill_docstring
+from tactile_search.envs.time_limit import DeclaredTimeLimit
 
 
 def observation_space(config: CupboardSearchConfig, proprio_len: int) -> spaces.Dict:
@@ -38,7 +41,7 @@ def action_space(batch: Any) -> spaces.Space:
     return spaces.MultiDiscrete(np.asarray(counts, dtype=np.int64))
 
 
-class CupboardSearchEnv(gym.Env, EzPickle):
+class CupboardSearchEnv(DeclaredTimeLimit, gym.Env, EzPickle):
     """Mechanical search by touch: reach into a cupboard and touch a hidden spice jar.
 
     ## Description
@@ -118,9 +121,11 @@ class CupboardSearchEnv(gym.Env, EzPickle):
     ## Episode End
     - Termination: the finger touches the target (success) or a jar tips over (failure).
     - Truncation: the episode's own time limit, ``max_steps`` steps (default 200): the core
-      reports it (``truncated``, also ``info["truncated"]``), so what
-      ``gymnasium.make(..., max_steps=N)`` says is what truncates, in the vector envs too.
-      Stepping on after truncation is allowed (``time_left`` goes below 0, floored at -1).
+      reports it (``truncated``), so what ``gymnasium.make(..., max_steps=N)`` says is what
+      truncates, in the vector envs too, and the made env's ``spec.max_episode_steps`` is
+      N (no ``TimeLimit`` wrapper: one limit). ``make``'s own ``max_episode_steps=`` would
+      add gymnasium's ``TimeLimit`` over it: pass ``max_steps`` instead. Stepping on after
+      truncation is allowed (``time_left`` goes below 0, floored at -1).
 
     ## Arguments
     ``render_mode``: ``None`` or ``"rgb_array"``. Then every setting of the core, by keyword
@@ -149,7 +154,8 @@ class CupboardSearchEnv(gym.Env, EzPickle):
       (``vector_entry_point``) now seeds as gymnasium's ``SyncVectorEnv`` does (sub-env
       ``i`` as ``reset(seed=seed + i)``, each with its own generator; before, one batch
       generator drew every layout) and its info carries the ``_key`` masks; the single
-      env's episodes are unchanged.
+      env's episodes are unchanged. The info's ``truncated`` key is gone (it repeated the
+      step's own ``truncated``); ``spec.max_episode_steps`` is the env's ``max_steps``.
     """
 
     metadata: ClassVar[dict[str, Any]] = {"render_modes": ["rgb_array"], "render_fps": 10}
@@ -159,7 +165,7 @@ class CupboardSearchEnv(gym.Env, EzPickle):
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.render_mode = render_mode
-        self.config = CupboardSearchConfig(**settings)
+        self.config = config_for("CupboardSearchEnv", settings)
         self._batch = self.config.make_batch([0], threads=1)
         self.observation_space = observation_space(self.config, self._batch.proprio_len)
         self.action_space = action_space(self._batch)
@@ -181,6 +187,8 @@ class CupboardSearchEnv(gym.Env, EzPickle):
         return self._batch.observation(0), self._batch.info(0)
 
     def step(self, action: Any) -> tuple[dict, float, bool, bool, dict]:
+        if self._episode_seed is None:
+            raise ResetNeeded("CupboardSearchEnv: call reset() before step()")
         # One call: the core checks the action once (shape (3,), finite; ValueError naming
         # what came) and returns fresh observation arrays and an info dict of scalars.
         result = self._batch.step_single(action)

@@ -22,11 +22,19 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-from stable_baselines3.common.vec_env.base_vec_env import VecEnv
+
+try:
+    from stable_baselines3.common.vec_env.base_vec_env import VecEnv
+except ModuleNotFoundError as error:
+    raise ModuleNotFoundError(
+        "tactile_search.envs.sb3_vec_env needs stable-baselines3, which is not installed: "
+        "pip install 'tactile_search[agents]'",
+        name=error.name,
+    ) from error
 
 from tactile_search.envs.config import (
-    CupboardSearchConfig,
     checked_layout_seeds,
+    config_for,
     with_settings_signature,
 )
 from tactile_search.envs.cupboard_search import (
@@ -71,7 +79,7 @@ class CupboardSearchSb3VecEnv(VecEnv):
             "threads": threads, "render_mode": render_mode, **kwargs,
         }  # fmt: skip
         self.layout_seeds = checked_layout_seeds(layout_seeds)
-        self.config = CupboardSearchConfig(**kwargs)
+        self.config = config_for("CupboardSearchSb3VecEnv", kwargs)
         self._rng = np.random.default_rng(seed)
         seeds = self._new_seeds(num_envs)
         self._batch = self.config.make_batch(seeds, threads=threads)
@@ -126,7 +134,7 @@ class CupboardSearchSb3VecEnv(VecEnv):
                     terminal["map"] = maps[index].copy()
                 info = infos[index]
                 info["terminal_observation"] = terminal
-                info["TimeLimit.truncated"] = info["truncated"]
+                info["TimeLimit.truncated"] = bool(truncated[index])
                 info["is_success"] = info["success"]
             self._reset_episodes([(index, self._new_seeds(1)[0]) for index in ended])
         return self._observation(), rewards, dones, infos

@@ -18,7 +18,8 @@ vectorization_mode="vector_entry_point")``. It behaves as gymnasium's ``SyncVect
 - ``render_mode="rgb_array"``: ``render()`` returns every sub-env's frame;
 - pickling carries the settings, the generators and the episodes so far.
 
-Truncation is the core's: an episode truncates when its steps reach ``max_steps``.
+Truncation is the core's: an episode truncates when its steps reach ``max_steps``, which
+``spec.max_episode_steps`` declares (``envs/time_limit.py``).
 
 The step path: the core writes observations, rewards, flags and the info (one array per
 key, never per-env dicts) into arrays allocated once per batch. With ``copy=True`` (the
@@ -39,12 +40,13 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from tactile_search.envs.config import (
-    CupboardSearchConfig,
     checked_layout_seeds,
+    config_for,
     with_settings_signature,
 )
 from tactile_search.envs.cupboard_search import CupboardSearchEnv, action_space, observation_space
 from tactile_search.envs.episode_log import EpisodeLog
+from tactile_search.envs.time_limit import DeclaredTimeLimit
 
 #: The layout-seed range of ``gymnasium.make``'s env: its ``reset()`` draws from it.
 SINGLE_ENV_LAYOUT_SEEDS = (0, 2**63)
@@ -94,7 +96,7 @@ def mask_keys(keys: tuple[str, ...]) -> tuple[str, ...]:
     return tuple(f"_{key}" for key in keys)
 
 
-class CupboardSearchVectorEnv(VectorEnv):
+class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
     """``num_envs`` cupboard-search episodes stepped on all cores (see ``CupboardSearchEnv``
     and the module docstring).
 
@@ -147,7 +149,7 @@ class CupboardSearchVectorEnv(VectorEnv):
         self.layout_seeds = checked_layout_seeds(layout_seeds)
         self.num_envs = num_envs
         self.copy = bool(copy)
-        self.config = CupboardSearchConfig(**kwargs)
+        self.config = config_for("CupboardSearchVectorEnv", kwargs)
         self._batch = self.config.make_batch(list(range(num_envs)), threads=threads)
         self.single_observation_space = observation_space(self.config, self._batch.proprio_len)
         self.single_action_space = action_space(self._batch)
