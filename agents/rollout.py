@@ -9,6 +9,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from tactile_search import CupboardSearchEnv
+from tactile_search.benchmark import episode_row
 
 
 class Agent(Protocol):
@@ -66,17 +67,7 @@ def run_episodes(
                 on_step(env, step, ended)
             if ended:
                 break
-        result = {
-            "seed": seed,
-            "success": bool(info["success"]),
-            "steps": int(info["steps"]),
-            "actions": step,
-            "tips": int(info["tips"]),
-            "jar_displacement": float(info["jar_displacement"]),
-            "max_jar_displacement": float(info["max_jar_displacement"]),
-            "iou": float(info["iou"]),
-            "reward": total,
-        }
+        result = episode_row(seed, info, actions=step, reward=total)
         results.append(result)
         if on_episode is not None:
             on_episode(result)

@@ -19,9 +19,9 @@ import argparse
 import statistics
 import time
 
-from agents.evaluation.statistics import wilson_interval
 from agents.scripted import GpisPlanner
 from tactile_search import CupboardSearchEnv
+from tactile_search.benchmark.statistics import wilson_interval
 from tactile_search.seed_ranges import held_out_seeds
 
 

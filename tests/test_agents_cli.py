@@ -15,11 +15,11 @@ import yaml
 pytest.importorskip("stable_baselines3")
 pytest.importorskip("sb3_contrib")
 
-from agents.evaluation.statistics import summarize, wilson_interval
 from agents.run_dir import PUBLISHED_RUNS, code_version
 from agents.sb3.recipes import load_hyperparams
 from agents.sb3.training import train
 from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS
+from tactile_search.benchmark.statistics import summarize, wilson_interval
 from tactile_search.seed_ranges import held_out_seeds
 
 REPO = Path(__file__).resolve().parents[1]

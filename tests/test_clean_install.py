@@ -3,7 +3,7 @@ virtual environment with only its dependencies (numpy, gymnasium: no extras, no
 matplotlib), passes gymnasium's ``check_env`` (render check included), runs a rollout, and
 renders as gymnasium's convention says: without a render mode a warning and None; in
 ``rgb_array`` an RGB array drawn with numpy alone. Writing a GIF, which needs the ``plots``
-extra, raises an ImportError naming it."""
+extra, raises an ImportError naming it. The benchmark API runs there too."""
 
 from __future__ import annotations
 
@@ -56,6 +56,11 @@ except ImportError as error:
     assert "tactile_search[plots]" in str(error), error
 else:
     raise AssertionError("a GIF was written without matplotlib")
+
+from tactile_search.benchmark import evaluate  # installed, numpy and gymnasium only
+
+result = evaluate(lambda observation: np.zeros(3, np.float32), episodes=2, map="none")
+assert result.summary.episodes == 2 and [r["seed"] for r in result.rows] == [1_000_000, 1_000_001]
 print("clean install ok")
 """
 

@@ -27,8 +27,8 @@ from typing import Any
 
 import numpy as np
 
-from agents.evaluation.statistics import wilson_interval
 from agents.sb3.learned import learned_agent_name
+from tactile_search.benchmark.statistics import wilson_interval
 
 # The form of agents.evaluation.agent_specs.seeded_name:
 # "ppo (gpis map, seed 1)" -> "ppo (gpis map)", seed 1.

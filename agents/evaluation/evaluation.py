@@ -42,10 +42,10 @@ from agents.evaluation.episodes_csv import (
 from agents.evaluation.fingerprints import code_fingerprints
 from agents.evaluation.gifs import gif_drawn_by, gif_provenance, record_gif
 from agents.evaluation.report import markdown_table, plot_learning_curves, plot_steps, plot_success
-from agents.evaluation.statistics import Summary, summarize
 from agents.rollout import run_episodes
 from agents.run_dir import write_atomically
 from agents.scripted import SCRIPTED_AGENTS
+from tactile_search.benchmark.statistics import Summary, summarize
 from tactile_search.seed_ranges import held_out_seeds
 
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from agents.evaluation.statistics import Summary
+from tactile_search.benchmark.statistics import Summary
 
 
 def markdown_table(summaries: Sequence[Summary]) -> str:

@@ -33,9 +33,9 @@ import ray
 
 from agents.evaluation.episodes_csv import EPISODE_COLUMNS, episode_row
 from agents.evaluation.evaluation import evaluate, evaluation_seeds, prepare_evaluation
-from agents.evaluation.statistics import Summary
 from agents.grid.trials import TrainingTrial, evaluate_shard, run_files, shards, train_trial
 from agents.scripted import SCRIPTED_AGENTS
+from tactile_search.benchmark.statistics import Summary
 
 # Retries of a failed training trial or evaluation shard before it is reported as failed.
 DEFAULT_MAX_FAILURES = 2

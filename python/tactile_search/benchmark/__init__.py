@@ -1,0 +1,32 @@
+"""The standard evaluation for any agent: ``tactile_search.benchmark.evaluate``.
+
+A researcher with their own policy reports a number comparable to the project's results
+table without copying its code::
+
+    from tactile_search.benchmark import evaluate
+
+    result = evaluate(my_policy, split="validation", episodes=200, map="gpis")
+    result.summary.success_rate, result.summary.success_low, result.summary.success_high
+    result.rows  # one dict per episode: seed, success, steps, actions, tips, ...
+
+``my_policy`` is any callable from one env's observation to its action (optionally with
+``reset(observation, info)``, called at each episode's start). The layouts come from the one
+place that defines the splits (``tactile_search.seed_ranges``): every choice is made on
+``validation``; ``test`` is read only by a final evaluation (``final=True``). The command
+line: ``python -m tactile_search.benchmark --policy module:callable`` (or a
+stable-baselines3 ``model.zip``). Needs only numpy and gymnasium (a model.zip needs the
+``agents`` extra).
+"""
+
+from tactile_search.benchmark.runner import ROW_KEYS, BenchmarkResult, episode_row, evaluate
+from tactile_search.benchmark.statistics import Summary, summarize, wilson_interval
+
+__all__ = [
+    "ROW_KEYS",
+    "BenchmarkResult",
+    "Summary",
+    "episode_row",
+    "evaluate",
+    "summarize",
+    "wilson_interval",
+]

@@ -1,0 +1,99 @@
+"""``python -m tactile_search.benchmark --policy module:callable``: the standard evaluation
+of a policy (see ``tactile_search.benchmark``), printed as one summary row; ``--json`` and
+``--csv`` keep the per-episode rows."""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import csv
+import dataclasses
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+from tactile_search.benchmark.policies import SB3_ALGORITHMS, load_policy
+from tactile_search.benchmark.runner import ROW_KEYS, BenchmarkResult, evaluate
+from tactile_search.seed_ranges import SPLITS
+
+
+def setting(text: str) -> tuple[str, Any]:
+    """argparse type of ``--env key=value``: the value as a Python literal, else a string."""
+    key, sep, value = text.partition("=")
+    if not sep or not key:
+        raise argparse.ArgumentTypeError(f"expected key=value, got {text!r}")
+    try:
+        return key, ast.literal_eval(value)
+    except (ValueError, SyntaxError):
+        return key, value
+
+
+def summary_line(result: BenchmarkResult) -> str:
+    """The summary as one line: success with its interval, steps, tips, displacement, IoU."""
+    s = result.summary
+    steps = (
+        "-"
+        if math.isnan(s.steps_median)
+        else f"{s.steps_median:g} ({s.steps_q1:g}, {s.steps_q3:g})"
+    )
+    return (
+        f"{s.agent} on {s.episodes} {result.split} layouts ({s.map_mode} map): success "
+        f"{100 * s.success_rate:.1f} % [{100 * s.success_low:.1f}, {100 * s.success_high:.1f}], "
+        f"steps to success median (Q1, Q3) {steps}, tip rate {100 * s.tip_rate:.1f} %, "
+        f"displacement in successes {s.success_displacement_mm:.1f} mm, final IoU {s.iou:.3f}"
+    )
+
+
+def main(argv: list[str] | None = None) -> BenchmarkResult:
+    parser = argparse.ArgumentParser(prog="python -m tactile_search.benchmark", description=__doc__)
+    parser.add_argument("--policy", required=True, help="module:callable, or an SB3 model.zip")
+    parser.add_argument(
+        "--algo", default="ppo", choices=sorted(SB3_ALGORITHMS), help="a model.zip's"
+    )
+    parser.add_argument("--split", default="validation", choices=sorted(SPLITS))
+    parser.add_argument("--episodes", type=int, default=200)
+    parser.add_argument("--final", action="store_true", help="the final evaluation (test split)")
+    parser.add_argument("--num-envs", type=int, default=None)
+    parser.add_argument("--name", default=None, help="the agent's name in the summary")
+    parser.add_argument(
+        "--env", type=setting, action="append", default=[], metavar="KEY=VALUE",
+        help="an env setting, e.g. --env map=occupancy --env action_mode=probe",
+    )  # fmt: skip
+    parser.add_argument("--json", type=Path, default=None, help="write the rows and summary")
+    parser.add_argument("--csv", type=Path, default=None, help="write the rows")
+    parser.add_argument("--no-progress", action="store_true")
+    args = parser.parse_args(argv)
+    try:
+        policy = load_policy(args.policy, args.algo)
+        result = evaluate(
+            policy, args.split, args.episodes, final=args.final, name=args.name,
+            num_envs=args.num_envs, progress=not args.no_progress, **dict(args.env),
+        )  # fmt: skip
+    except (ValueError, TypeError, ModuleNotFoundError) as error:
+        parser.error(str(error))
+    print(summary_line(result))
+    if args.json is not None:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        summary = dataclasses.asdict(result.summary)
+        summary = {
+            k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in summary.items()
+        }
+        args.json.write_text(
+            json.dumps(
+                {"split": result.split, "env_kwargs": result.env_kwargs, "summary": summary,
+                 "rows": result.rows},
+                indent=1, default=str,
+            )
+        )  # fmt: skip
+    if args.csv is not None:
+        args.csv.parent.mkdir(parents=True, exist_ok=True)
+        with args.csv.open("w", newline="") as file:
+            writer = csv.DictWriter(file, fieldnames=ROW_KEYS)
+            writer.writeheader()
+            writer.writerows(result.rows)
+    return result
+
+
+if __name__ == "__main__":
+    main()

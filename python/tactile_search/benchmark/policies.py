@@ -1,0 +1,91 @@
+"""Policies named on the command line: ``module:callable`` or a stable-baselines3 ``model.zip``.
+
+``module:callable`` imports ``module`` and takes its attribute ``callable``: a function (or
+any callable object) from observation to action is the policy; a class is instantiated with
+no arguments first. A path ending in ``.zip`` is an SB3 model, loaded with the algorithm
+``--algo`` names (the ``agents`` extra); its policy's mode is the action, with a recurrent
+policy's state carried through the episode and cleared at its reset.
+
+Security: an SB3 ``model.zip`` and a named module both run code of their choosing when
+loaded. Load only what you trust.
+"""
+
+from __future__ import annotations
+
+import importlib
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+#: SB3 algorithms a model.zip may hold, by the name ``--algo`` takes: (module, class).
+SB3_ALGORITHMS: dict[str, tuple[str, str]] = {
+    "ppo": ("stable_baselines3", "PPO"),
+    "a2c": ("stable_baselines3", "A2C"),
+    "dqn": ("stable_baselines3", "DQN"),
+    "sac": ("stable_baselines3", "SAC"),
+    "td3": ("stable_baselines3", "TD3"),
+    "recurrent_ppo": ("sb3_contrib", "RecurrentPPO"),
+}
+
+
+def load_policy(spec: str, algo: str = "ppo") -> Any:
+    """The policy ``spec`` names (see the module docstring)."""
+    if spec.endswith(".zip"):
+        return Sb3Policy(Path(spec), algo)
+    module_name, sep, attribute = spec.partition(":")
+    if not sep or not module_name or not attribute:
+        raise ValueError(
+            f"policy must be 'module:callable' or a path to an SB3 model.zip, got {spec!r}"
+        )
+    module = importlib.import_module(module_name)
+    try:
+        policy = getattr(module, attribute)
+    except AttributeError:
+        raise ValueError(f"module {module_name!r} has no attribute {attribute!r}") from None
+    if isinstance(policy, type):
+        policy = policy()
+    if not callable(policy):
+        raise TypeError(f"{spec} must be callable (observation -> action), got {policy!r}")
+    return policy
+
+
+class Sb3Policy:
+    """An SB3 model as a policy: its mode, with a recurrent model's state per episode."""
+
+    def __init__(self, path: Path, algo: str) -> None:
+        if algo not in SB3_ALGORITHMS:
+            raise ValueError(f"algo must be one of {sorted(SB3_ALGORITHMS)}, got {algo!r}")
+        if not path.is_file():
+            raise ValueError(f"{path} is not a file")
+        module_name, class_name = SB3_ALGORITHMS[algo]
+        try:
+            module = importlib.import_module(module_name)
+        except ModuleNotFoundError as error:
+            raise ModuleNotFoundError(
+                f"loading a {algo} model.zip needs {module_name}, which is not installed: "
+                "pip install 'tactile_search[agents]'",
+                name=error.name,
+            ) from error
+        self.name = f"{algo} ({path})"
+        self.model = getattr(module, class_name).load(path, device="cpu")
+        self._recurrent = algo == "recurrent_ppo"
+        self._state: Any = None
+        self._episode_start = np.ones((1,), dtype=bool)
+
+    def reset(self, observation: dict, info: dict) -> None:
+        self._state = None
+        self._episode_start = np.ones((1,), dtype=bool)
+
+    def __call__(self, observation: dict) -> np.ndarray:
+        if self._recurrent:
+            action, self._state = self.model.predict(
+                observation,
+                state=self._state,
+                episode_start=self._episode_start,
+                deterministic=True,
+            )
+            self._episode_start = np.zeros((1,), dtype=bool)
+            return action
+        action, _ = self.model.predict(observation, deterministic=True)
+        return action

@@ -1,0 +1,218 @@
+"""``evaluate``: any policy through the standard evaluation on the vector env.
+
+The layouts are the split's first ``episodes`` seeds (``tactile_search.seed_ranges``: the
+validation range for every choice, the test range only for a final result). Each episode
+is a pure function of its layout seed and the policy's actions, so a row does not depend on
+how many episodes run side by side. The vector env runs with ``autoreset_mode="disabled"``:
+when an episode ends its slot is reset onto the next seed of the split; once none is left
+the slot replays its last layout, its results ignored, until every episode has ended.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import os
+import sys
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+
+from tactile_search.benchmark.statistics import Summary, summarize
+from tactile_search.envs.vector import CupboardSearchVectorEnv
+from tactile_search.seed_ranges import TEST, held_out_seeds
+
+#: The per-episode row's keys, in order.
+ROW_KEYS = (
+    "seed", "success", "steps", "actions", "tips", "jar_displacement",
+    "max_jar_displacement", "iou", "reward",
+)  # fmt: skip
+
+
+def episode_row(seed: int, info: dict[str, Any], actions: int, reward: float) -> dict[str, Any]:
+    """One episode's row from the info of its last step (``steps``: wrist motions, the
+    time limit's count; ``actions``: the policy's steps, a probe each in the probe mode)."""
+    return {
+        "seed": seed,
+        "success": bool(info["success"]),
+        "steps": int(info["steps"]),
+        "actions": actions,
+        "tips": int(info["tips"]),
+        "jar_displacement": float(info["jar_displacement"]),
+        "max_jar_displacement": float(info["max_jar_displacement"]),
+        "iou": float(info["iou"]),
+        "reward": float(reward),
+    }
+
+
+@dataclasses.dataclass(frozen=True)
+class BenchmarkResult:
+    """An evaluation's rows (one dict per episode, in the split's seed order) and their
+    summary (success with its 95 % Wilson interval, steps to success, tips, displacement
+    within successful episodes, final IoU)."""
+
+    rows: list[dict[str, Any]]
+    summary: Summary
+    split: str
+    env_kwargs: dict[str, Any]
+
+
+def evaluate(
+    policy: Callable[[dict[str, np.ndarray]], Any],
+    split: str = "validation",
+    episodes: int = 200,
+    *,
+    final: bool = False,
+    name: str | None = None,
+    num_envs: int | None = None,
+    progress: bool = True,
+    **env_kwargs: Any,
+) -> BenchmarkResult:
+    """Runs ``policy`` on the first ``episodes`` layouts of ``split`` and summarises them.
+
+    Args:
+        policy: a callable from one env's observation (a dict of arrays) to its action; if
+            it also has ``reset(observation, info)``, that is called at each episode's start
+            and every slot of the vector env gets its own ``copy.deepcopy`` of it (a stateful
+            policy never sees two episodes at once).
+        split: ``"validation"`` (every choice is made here) or ``"test"`` (held out for a
+            final result: only with ``final=True``).
+        episodes: layouts, the split's first seeds.
+        final: this is the final evaluation (the only one allowed to read the test split).
+        name: the agent's name in the summary (default: the policy's ``name`` attribute or
+            its type's name).
+        num_envs: episodes side by side (default: the cores, at most ``episodes``).
+        progress: show a progress bar on stderr (tqdm's if installed).
+        **env_kwargs: the env's settings (``map``, ``action_mode``, ...), as ``gym.make``
+            takes them; the reward terms do not change the rows' success and metrics.
+    """
+    if split == "test" and not final:
+        lo, hi = TEST
+        raise ValueError(
+            f"the test split (seeds {lo:,} to {hi - 1:,}) is held out for the final result: "
+            "pass final=True only for that evaluation; make every choice on 'validation'"
+        )
+    if not callable(policy):
+        raise TypeError(f"policy must be callable (observation -> action), got {policy!r}")
+    seeds = held_out_seeds(split, episodes)
+    if num_envs is None:
+        num_envs = min(len(seeds), os.cpu_count() or 1)
+    vector = CupboardSearchVectorEnv(
+        num_envs=num_envs, autoreset_mode="disabled", copy=True, **env_kwargs
+    )
+    try:
+        rows = _run(vector, policy, seeds, _progress(len(seeds), progress))
+    finally:
+        vector.close()
+    agent = (
+        name
+        or getattr(policy, "name", None)
+        or getattr(policy, "__name__", None)
+        or type(policy).__name__
+    )
+    return BenchmarkResult(
+        rows=rows,
+        summary=summarize(str(agent), vector.config.map, rows),
+        split=split,
+        env_kwargs=dict(env_kwargs),
+    )
+
+
+class _Slot:
+    """One sub-env's episode in progress: its seed, policy, steps and return."""
+
+    def __init__(self, seed: int | None, policy: Any) -> None:
+        self.seed = seed  # None: no seed left, the slot only idles
+        self.policy = policy
+        self.actions = 0
+        self.reward = 0.0
+
+
+def _run(
+    vector: CupboardSearchVectorEnv, policy: Any, seeds: Sequence[int], tick: Callable[[], None]
+) -> list[dict[str, Any]]:
+    stateful = callable(getattr(policy, "reset", None))
+    queue = list(seeds)
+    first = queue[: vector.num_envs]
+    del queue[: vector.num_envs]
+    # Slots beyond the episodes (fewer episodes than envs) idle on the first layout.
+    layouts = first + [first[0]] * (vector.num_envs - len(first))
+    observation, info = vector.reset(seed=layouts)
+    slots = [
+        _Slot(seed if i < len(first) else None, copy.deepcopy(policy) if stateful else policy)
+        for i, seed in enumerate(layouts)
+    ]
+    for i, slot in enumerate(slots):
+        _begin(slot, observation, info, i)
+    rows: dict[int, dict[str, Any]] = {}
+    while len(rows) < len(seeds):
+        actions = np.stack(
+            [np.asarray(slot.policy(_row(observation, i))) for i, slot in enumerate(slots)]
+        )
+        observation, reward, terminated, truncated, info = vector.step(actions)
+        ended = terminated | truncated
+        for i, slot in enumerate(slots):
+            slot.actions += 1
+            slot.reward += float(reward[i])
+            if ended[i] and slot.seed is not None:
+                rows[slot.seed] = episode_row(slot.seed, _row(info, i), slot.actions, slot.reward)
+                tick()
+        if ended.any():
+            observation, info = _next_episodes(vector, slots, ended, queue, stateful, policy)
+    return [rows[seed] for seed in seeds]
+
+
+def _next_episodes(
+    vector: CupboardSearchVectorEnv, slots: list[_Slot], ended: np.ndarray,
+    queue: list[int], stateful: bool, policy: Any,
+) -> tuple[dict, dict]:  # fmt: skip
+    """Resets the ended slots onto the next seeds (or their own layout, to idle)."""
+    layouts: list[int | None] = [None] * len(slots)
+    for i in np.flatnonzero(ended).tolist():
+        next_seed = queue.pop(0) if queue else None
+        layouts[i] = next_seed if next_seed is not None else vector._log.seeds[i]
+        fresh = copy.deepcopy(policy) if stateful else policy
+        slots[i] = _Slot(next_seed, fresh)
+    observation, info = vector.reset(seed=layouts, options={"reset_mask": ended.copy()})
+    for i in np.flatnonzero(ended).tolist():
+        _begin(slots[i], observation, info, i)
+    return observation, info
+
+
+def _begin(slot: _Slot, observation: dict, info: dict, index: int) -> None:
+    reset = getattr(slot.policy, "reset", None)
+    if callable(reset):
+        reset(_row(observation, index), _row(info, index))
+
+
+def _row(batch: dict[str, np.ndarray], index: int) -> dict[str, Any]:
+    """Sub-env ``index``'s entry of a batched dict (observation or info; no ``_key``
+    masks)."""
+    return {key: value[index] for key, value in batch.items() if not key.startswith("_")}
+
+
+def _progress(total: int, show: bool) -> Callable[[], None]:
+    """A callable that advances a progress bar of ``total`` episodes (tqdm's if installed,
+    else a line on stderr); a no-op when ``show`` is False."""
+    if not show:
+        return lambda: None
+    try:
+        from tqdm.auto import tqdm
+    except ModuleNotFoundError:
+        done = [0]
+
+        def tick() -> None:
+            done[0] += 1
+            end = "\n" if done[0] == total else ""
+            print(f"\r  episodes {done[0]}/{total}", end=end, file=sys.stderr, flush=True)
+
+        return tick
+    bar = tqdm(total=total, unit="episode", leave=False)
+
+    def advance() -> None:
+        bar.update()
+        if bar.n >= total:
+            bar.close()
+
+    return advance
