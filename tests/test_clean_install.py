@@ -7,14 +7,10 @@ extra, raises an ImportError naming it. The benchmark API runs there too."""
 
 from __future__ import annotations
 
-import shutil
 import subprocess
-import sys
 from pathlib import Path
 
-import pytest
-
-ROOT = Path(__file__).resolve().parents[1]
+from tests.fresh_install import fresh_install
 
 # Runs inside the fresh environment, from a directory outside the repository.
 CHECK = """
@@ -66,23 +62,7 @@ print("clean install ok")
 
 
 def test_the_wheel_works_in_a_fresh_environment_without_extras(tmp_path: Path) -> None:
-    maturin = shutil.which("maturin", path=str(Path(sys.executable).parent))
-    if maturin is None:
-        pytest.skip("maturin is not installed next to this Python")
-    wheels = tmp_path / "wheels"
-    subprocess.run(
-        [maturin, "build", "--release", "--quiet", "--out", str(wheels)],
-        cwd=ROOT,
-        check=True,
-    )
-    (wheel,) = wheels.glob("tactile_search-*.whl")
-    venv = tmp_path / "venv"
-    subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
-    python = venv / "bin" / "python"
-    subprocess.run(
-        [str(python), "-m", "pip", "install", "--quiet", "--disable-pip-version-check", str(wheel)],
-        check=True,
-    )
+    python = fresh_install(tmp_path)
     result = subprocess.run(
         [str(python), "-c", CHECK], cwd=tmp_path, capture_output=True, text=True, timeout=600
     )
