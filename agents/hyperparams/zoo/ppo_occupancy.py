@@ -1,0 +1,6 @@
+"""rl-baselines3-zoo config: agents/hyperparams/ppo.yml's recipe for the occupancy map
+(see agents/sb3/zoo.py; run rl_zoo3.train from the repository's root)."""
+
+from agents.sb3.zoo import zoo_hyperparams
+
+hyperparams = zoo_hyperparams("ppo", "occupancy")

@@ -1,0 +1,36 @@
+"""The training recipes as rl-baselines3-zoo reads them.
+
+rl-zoo3 keys a config file by env id alone, passes every key it does not know to the
+algorithm and reads classes only from Python. ``zoo_hyperparams(algo, map_mode)`` turns the
+recipe of ``agents/hyperparams/<algo>.yml`` (keyed by env id, then map mode) into that: the
+run's keys rl-zoo3 knows (``n_timesteps``, ``n_envs``, ``policy``, ``env_kwargs``), the
+algorithm's arguments with the encoder classes imported (``agents.sb3.encoders``), and none
+of the project's own keys (``max_minutes``, ``deterministic_evaluation``).
+``agents/hyperparams/zoo/<algo>_<map>.py`` are the config files, one per recipe; from the
+repository's root (so that ``agents`` imports)::
+
+    python -m rl_zoo3.train --algo ppo --env tactile_search/CupboardSearch-v0 \\
+        --gym-packages tactile_search -conf agents/hyperparams/zoo/ppo_gpis.py
+
+rl-zoo3 seeds its envs itself: their layouts come from the env's own draw over
+``[0, 2**63)``, not from the project's training range (a draw lands in the 2 * 10**6
+held-out layouts with probability about 2e-13).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from agents.sb3.recipes import algorithm_kwargs, load_hyperparams
+from tactile_search import ENV_ID
+
+#: The run's keys rl-zoo3 reads itself (the others go to the algorithm).
+ZOO_RUN_KEYS = ("n_timesteps", "n_envs", "policy", "env_kwargs")
+
+
+def zoo_hyperparams(algo: str, map_mode: str) -> dict[str, dict[str, Any]]:
+    """rl-zoo3's ``hyperparams`` for the recipe of ``algo`` on ``map_mode``: ``{ENV_ID:
+    {...}}`` (see the module docstring)."""
+    recipe = load_hyperparams(algo, map_mode)
+    run = {key: recipe[key] for key in ZOO_RUN_KEYS if key in recipe}
+    return {ENV_ID: {**run, **algorithm_kwargs(recipe)}}
