@@ -105,12 +105,15 @@ def test_a_bad_setting_raises_the_envs_own_error(setting: dict, error: type) -> 
     assert str(via_rllib.value) == str(expected.value)
 
 
-@pytest.mark.parametrize("map_mode", ["gpis", "none"])
-def test_module_reads_the_observation_as_the_connectors_deliver_it(map_mode: str) -> None:
+@pytest.mark.parametrize(("map_mode", "action_mode"), [("gpis", "probe"), ("none", "wrist")])
+def test_module_reads_the_observation_as_the_connectors_deliver_it(
+    map_mode: str, action_mode: str
+) -> None:
     register()
     config = build_config(
-        map_mode=map_mode, env_runners=1, envs_per_runner=2, fragment=4, settings=TINY
-    )
+        map_mode=map_mode, env_runners=1, envs_per_runner=2, fragment=4,
+        settings={**TINY, "action_mode": action_mode},
+    )  # fmt: skip
     runner = SingleAgentEnvRunner(config=config, worker_index=1, num_workers=1)
     try:
         assert isinstance(runner.module, CupboardSearchRLModule)
@@ -131,8 +134,15 @@ def test_module_reads_the_observation_as_the_connectors_deliver_it(map_mode: str
         with torch.no_grad():
             out = module.forward_train(batch)
             inputs = out[Columns.ACTION_DIST_INPUTS]
-            assert tuple(inputs.shape) == (2, 6)  # mean and log-std of 3 actions
-            assert torch.all(inputs[:, 3:] == -1.0)  # the recipe's initial log-std
+            if action_mode == "wrist":
+                assert tuple(inputs.shape) == (2, 6)  # mean and log-std of 3 actions
+                assert torch.all(inputs[:, 3:] == -1.0)  # the recipe's initial log-std
+            else:  # one categorical per probe index: lanes + depths + sweeps logits
+                counts = runner.env.unwrapped.single_action_space.nvec
+                assert tuple(inputs.shape) == (2, int(counts.sum()))
+                dist = module.get_train_action_dist_cls().from_logits(inputs)
+                probes = dist.sample()
+                assert tuple(probes.shape) == (2, 3) and (probes < torch.as_tensor(counts)).all()
             acting = runner.module.forward_exploration(batch)[Columns.ACTION_DIST_INPUTS]
             assert torch.equal(inputs, acting)
             values = module.compute_values(batch)
@@ -144,6 +154,9 @@ def test_module_reads_the_observation_as_the_connectors_deliver_it(map_mode: str
 
 
 def test_module_refuses_other_spaces() -> None:
+    proprio_only = gym.spaces.Dict({"proprio": gym.spaces.Box(-1, 1, (11,), np.float32)})
+    with pytest.raises(TypeError, match="1-D MultiDiscrete"):
+        CupboardSearchRLModule(observation_space=proprio_only, action_space=gym.spaces.Discrete(4))
     action = gym.spaces.Box(-1, 1, (3,), np.float32)
     with pytest.raises(TypeError, match="Dict with 'proprio'"):
         CupboardSearchRLModule(

@@ -8,15 +8,20 @@ is no ``map`` with ``map="none"``). The map is scaled to [0, 1] and read by a sm
 ``pool_shape`` grid that keeps where things are, flattened); its features are concatenated
 with ``proprio`` and go through an MLP. Without a map the MLP reads ``proprio`` alone.
 
-The MLP's output (the embedding) feeds two linear heads: the mean of a diagonal Gaussian
-over the actions and the value. The log-std is a state-independent parameter (initialised
-at ``log_std_init``, -1.0 as in the SB3 recipe: actions are clipped to [-1, 1], so a wide
-start is a random walk). ``ACTION_DIST_INPUTS`` is ``[mean, log_std]`` (2 x 3 values),
-what RLlib's ``TorchDiagGaussian`` (the default for a Box action space) reads.
+The MLP's output (the embedding) feeds two linear heads, the action head and the value.
+The action head follows the env's action mode:
+
+- ``probe`` (``MultiDiscrete([lanes, depths, sweeps])``, what the recipes train): one
+  categorical head per index, their logits side by side (29 + 10 + 9 by default), read by
+  RLlib's ``TorchMultiCategorical``; initialised near uniform.
+- ``wrist`` (``Box(-1, 1, (3,))``): the mean of a diagonal Gaussian; the log-std is a
+  state-independent parameter (initialised at ``log_std_init``, -1.0 as in the SB3 recipe:
+  actions are clipped to [-1, 1], so a wide start is a random walk). ``ACTION_DIST_INPUTS``
+  is ``[mean, log_std]`` (2 x 3 values), what ``TorchDiagGaussian`` reads.
 
 ``model_config`` keys (all optional): ``conv_channels`` (default ``(16, 32, 32)``),
 ``conv_strides`` (``(2, 2, 1)``, at most two of them 2), ``pool_shape`` (``(5, 10)``),
-``hidden`` (``(256, 256)``), ``log_std_init`` (``-1.0``). RLlib merges its own
+``hidden`` (``(256, 256)``), ``log_std_init`` (``-1.0``, the wrist mode's). RLlib merges its own
 ``DefaultModelConfig`` keys into ``model_config``; they are ignored. The policy and the value
 share the encoder (the value head reuses ``forward_train``'s ``EMBEDDINGS``).
 """
@@ -31,7 +36,10 @@ import gymnasium as gym
 import numpy as np
 import torch
 from ray.rllib.core.columns import Columns
-from ray.rllib.core.distribution.torch.torch_distribution import TorchDiagGaussian
+from ray.rllib.core.distribution.torch.torch_distribution import (
+    TorchDiagGaussian,
+    TorchMultiCategorical,
+)
 from ray.rllib.core.rl_module.apis import ValueFunctionAPI
 from ray.rllib.core.rl_module.torch import TorchRLModule
 from torch import nn
@@ -66,7 +74,6 @@ class CupboardSearchRLModule(TorchRLModule, ValueFunctionAPI):
     def setup(self) -> None:
         config = self._checked_model_config()
         proprio_space, map_space = self._checked_spaces()
-        action_dim = int(self.action_space.shape[0])
 
         features = int(proprio_space.shape[0])
         self._cnn: nn.Module | None = None
@@ -87,15 +94,23 @@ class CupboardSearchRLModule(TorchRLModule, ValueFunctionAPI):
             mlp += [nn.Linear(features, width), nn.Tanh()]
             features = width
         self._mlp = nn.Sequential(*mlp)
-        self._mean = nn.Linear(features, action_dim)
+        self._log_std: nn.Parameter | None = None
+        if isinstance(self.action_space, gym.spaces.MultiDiscrete):  # the probe mode
+            counts = [int(n) for n in self.action_space.nvec]
+            self._action_head = nn.Linear(features, sum(counts))  # logits, index by index
+            self.action_dist_cls = TorchMultiCategorical.get_partial_dist_cls(input_lens=counts)
+        else:  # the wrist mode
+            action_dim = int(self.action_space.shape[0])
+            self._action_head = nn.Linear(features, action_dim)  # the Gaussian's mean
+            self._log_std = nn.Parameter(torch.full((action_dim,), float(config["log_std_init"])))
+            self.action_dist_cls = TorchDiagGaussian
         self._value = nn.Linear(features, 1)
-        # Small initial means and values (as SB3's orthogonal init with gains 0.01 and 1).
-        nn.init.orthogonal_(self._mean.weight, gain=0.01)
-        nn.init.zeros_(self._mean.bias)
+        # Small initial action outputs (near-uniform probes, means near 0) and values, as
+        # SB3's orthogonal init with gains 0.01 and 1.
+        nn.init.orthogonal_(self._action_head.weight, gain=0.01)
+        nn.init.zeros_(self._action_head.bias)
         nn.init.orthogonal_(self._value.weight, gain=1.0)
         nn.init.zeros_(self._value.bias)
-        self._log_std = nn.Parameter(torch.full((action_dim,), float(config["log_std_init"])))
-        self.action_dist_cls = TorchDiagGaussian
 
     def _checked_model_config(self) -> dict[str, Any]:
         # RLlib merges its DefaultModelConfig's keys (fcnet_hiddens, ...) into
@@ -147,8 +162,13 @@ class CupboardSearchRLModule(TorchRLModule, ValueFunctionAPI):
         ):
             raise TypeError(f"observation_space['map'] must be a (C, H, W) Box, got {map_space!r}")
         action = self.action_space
-        if not isinstance(action, gym.spaces.Box) or len(action.shape) != 1:
-            raise TypeError(f"action_space must be a 1-D Box, got {action!r}")
+        box = isinstance(action, gym.spaces.Box) and len(action.shape) == 1
+        probes = isinstance(action, gym.spaces.MultiDiscrete) and len(action.shape) == 1
+        if not (box or probes):
+            raise TypeError(
+                "action_space must be a 1-D Box (the wrist mode) or a 1-D MultiDiscrete (the "
+                f"probe mode), got {action!r}"
+            )
         return proprio, map_space
 
     def _embed(self, batch: Mapping[str, Any]) -> torch.Tensor:
@@ -165,8 +185,11 @@ class CupboardSearchRLModule(TorchRLModule, ValueFunctionAPI):
         return self._mlp(x).reshape(*lead, -1)
 
     def _dist_inputs(self, embeddings: torch.Tensor) -> torch.Tensor:
-        mean = self._mean(embeddings)
-        return torch.cat([mean, self._log_std.expand_as(mean)], dim=-1)
+        """The probe mode's logits, or the wrist mode's ``[mean, log_std]``."""
+        out = self._action_head(embeddings)
+        if self._log_std is None:
+            return out
+        return torch.cat([out, self._log_std.expand_as(out)], dim=-1)
 
     def _forward(self, batch: dict[str, Any], **kwargs: Any) -> dict[str, Any]:
         return {Columns.ACTION_DIST_INPUTS: self._dist_inputs(self._embed(batch))}

@@ -64,14 +64,15 @@ FIGURES = (
 
 def recipe(map_mode: str) -> tuple[dict[str, Any], dict[str, Any], float]:
     """The SB3 PPO recipe for ``map_mode`` as (env settings, RLlib ``training()``
-    arguments, initial log-std). The env runs the ``wrist`` action mode whatever the recipe
-    says: this example's module (``agents.rllib.module``) is a Gaussian over Box actions."""
+    arguments, initial log-std): the recipe's action mode (``probe``; the module has a
+    categorical head per probe index; ``settings={"action_mode": "wrist"}`` trains its
+    Gaussian over wrist motions instead)."""
     if map_mode not in MAP_MODES:
         raise ValueError(f"map must be one of {MAP_MODES}, got {map_mode!r}")
     hyper = load_hyperparams("ppo", map_mode)
     training = {RECIPE_TO_RLLIB[k]: v for k, v in hyper.items() if k in RECIPE_TO_RLLIB}
     log_std_init = float(hyper.get("policy_kwargs", {}).get("log_std_init", -1.0))
-    return {**hyper["env_kwargs"], "action_mode": "wrist"}, training, log_std_init
+    return dict(hyper["env_kwargs"]), training, log_std_init
 
 
 def build_config(
