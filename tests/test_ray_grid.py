@@ -1,7 +1,8 @@
 """The experiment grid on a local Ray cluster (a head and a worker node on this machine):
 training trials and evaluation shards as Ray tasks give the models and episode rows of
 the same grid run one trial after another, a grid run again reuses what finished, and a
-failing trial is reported while the rest of the grid finishes."""
+failing trial is reported while the rest of the grid finishes; a worker process killed
+mid-trial costs a retry of its task and the same model."""
 
 from __future__ import annotations
 
@@ -151,3 +152,60 @@ def test_the_pipeline_gives_the_same_table_on_ray_and_locally(cluster, tmp_path)
         assert (budget.results / "training" / "ppo_none_seed1" / "config.yml").is_file()
     assert tables["ray"] == tables["local"]
     assert "seed 1" in tables["ray"]  # two training seeds of one agent, told apart
+
+
+def _task_pids(name: str) -> list[int]:
+    """The processes running the Ray task ``name`` (Ray titles a worker ``ray::<task>``)."""
+    pids = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                cmdline = (entry / "cmdline").read_bytes()
+            except OSError:  # gone meanwhile
+                continue
+            if cmdline.startswith(f"ray::{name}".encode()):
+                pids.append(int(entry.name))
+    return pids
+
+
+def test_a_killed_worker_costs_a_retry_and_the_grid_finishes_as_undisturbed(
+    cluster, tmp_path
+) -> None:
+    import os
+    import signal
+    import threading
+    import time
+
+    (trial,) = [
+        TrainingTrial("ppo", "none", 0, str((tmp_path / "ray").resolve()), 1024, 1, n_envs=N_ENVS)
+    ]
+    outcome: dict[str, object] = {}
+
+    def grid() -> None:
+        try:
+            outcome["runs"] = ray_scheduler.train_on_ray([trial])
+        except Exception as err:  # reported below
+            outcome["error"] = err
+
+    runner = threading.Thread(target=grid)
+    runner.start()
+    killed = []
+    deadline = time.monotonic() + 300
+    # Kill the worker once its trial has started writing its run (mid-training).
+    while not killed and runner.is_alive() and time.monotonic() < deadline:
+        pids = _task_pids("_training_task")
+        if pids and (trial.run_dir / "config.yml").exists():
+            os.kill(pids[0], signal.SIGKILL)
+            killed.append(pids[0])
+            outcome["finished_before_the_kill"] = (trial.run_dir / "model.zip").exists()
+        time.sleep(0.02)
+    runner.join(timeout=600)
+    assert killed, "the trial ended before its worker could be killed"
+    assert outcome["finished_before_the_kill"] is False  # killed mid-training
+    assert "error" not in outcome, outcome.get("error")  # Ray retried the task ...
+    assert outcome["runs"] == [trial.run_dir]  # ... and the grid finished
+    # The retried trial gives the model of an undisturbed run of the same trial.
+    undisturbed = train_trial(
+        TrainingTrial("ppo", "none", 0, str((tmp_path / "here").resolve()), 1024, 1, n_envs=N_ENVS)
+    )
+    assert model_digest(trial.run_dir / "model.zip") == model_digest(undisturbed / "model.zip")
