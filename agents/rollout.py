@@ -1,8 +1,12 @@
-"""The ``Agent`` protocol every agent implements (scripted and learned), and the loop that runs
-agents through episodes of ``CupboardSearchEnv`` (``run_episodes``)."""
+"""The ``Agent`` protocol every agent implements (scripted and learned), and the loops that run
+agents through episodes: ``evaluate_agent`` (the evaluation: the package's benchmark runner,
+``tactile_search.benchmark``, on the vector env) and ``run_episodes`` (one
+``CupboardSearchEnv`` episode after another, with a hook after every step, for drawing
+GIFs and tracing probes)."""
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable
 from typing import Any, Protocol
 
@@ -10,6 +14,7 @@ import numpy as np
 
 from tactile_search import CupboardSearchEnv
 from tactile_search.benchmark import episode_row
+from tactile_search.benchmark.runner import run_on_seeds
 
 
 class Agent(Protocol):
@@ -73,3 +78,39 @@ def run_episodes(
             on_episode(result)
     env.close()
     return results
+
+
+class AgentPolicy:
+    """An ``Agent`` as a benchmark policy for one slot of the vector env: ``reset`` hands the
+    agent the slot's ``SubEnv`` (what it reads of the env: geometry, decoders, oracle, the
+    episode's seed)."""
+
+    def __init__(self, agent: Agent, env: Any) -> None:
+        self.agent = agent
+        self.env = env
+
+    def reset(self, observation: dict, info: dict) -> None:
+        self.agent.reset(self.env, observation, info)
+
+    def __call__(self, observation: dict) -> np.ndarray:
+        return self.agent.act(observation)
+
+
+def evaluate_agent(
+    agent: Agent,
+    seeds: list[int],
+    on_episode: Callable[[dict[str, Any]], None] | None = None,
+    num_envs: int | None = None,
+    **env_kwargs: Any,
+) -> list[dict[str, Any]]:
+    """One episode per seed with ``agent`` on the vector env, through the package's
+    benchmark runner (``tactile_search.benchmark.runner.run_on_seeds``): the rows
+    ``run_episodes`` gives, one per seed in order (``on_episode`` as each ends). Slot 0 plays
+    ``agent`` itself, the others copies of it; each episode starts with the agent's
+    ``reset``, so an agent's episodes do not depend on which slot or what came before."""
+    copies = iter([agent])
+
+    def make_policy(sub_env: Any) -> AgentPolicy:
+        return AgentPolicy(next(copies, None) or copy.deepcopy(agent), sub_env)
+
+    return run_on_seeds(make_policy, seeds, num_envs=num_envs, on_episode=on_episode, **env_kwargs)

@@ -108,3 +108,24 @@ def test_the_command_line_evaluates_an_sb3_model_zip(tmp_path: Path) -> None:
     model.save(path)
     result = main(["--policy", str(path), "--episodes", "2", "--env", "map=none", "--no-progress"])
     assert result.summary.episodes == 2 and result.summary.agent.startswith("ppo (")
+
+
+@pytest.mark.parametrize(
+    "spec", ["random", "gpis_planner", "oracle", "docs/results/ablations_speed/runs/ppo_gpis_seed0"]
+)
+def test_the_agents_evaluation_through_the_runner_gives_the_sequential_rows(spec: str) -> None:
+    """The project's own evaluation runs on the benchmark runner: every agent (scripted,
+    and a published model sampling its probes) gives the rows of one episode after another
+    in one env, on two slots side by side."""
+    if spec.startswith("docs/"):
+        pytest.importorskip("stable_baselines3")
+    from agents.evaluation.agent_specs import make_agent
+    from agents.rollout import evaluate_agent, run_episodes
+
+    seeds = held_out_seeds("validation", 5)
+    agent, env_kwargs = make_agent(str(ROOT / spec) if spec.startswith("docs/") else spec)
+    sequential = run_episodes(agent, seeds, **env_kwargs)
+    streamed: list[dict] = []
+    rows = evaluate_agent(agent, seeds, on_episode=streamed.append, num_envs=2, **env_kwargs)
+    assert rows == sequential
+    assert sorted(streamed, key=lambda row: row["seed"]) == sequential

@@ -245,14 +245,14 @@ def test_an_interrupted_evaluation_resumes_without_redoing_episodes(tmp_path, mo
     (resumed / "gifs" / "oracle.gif").unlink()
     random_gif = (resumed / "gifs" / "random.gif").stat().st_mtime_ns
     ran: list[tuple[str, int]] = []
-    original = evaluate_module.run_episodes
+    original = evaluate_module.evaluate_agent
 
     def counting(agent: Any, seeds: list[int], **kwargs: Any) -> list:
         if "on_episode" in kwargs:
             ran.extend((agent.name, seed) for seed in seeds)
         return original(agent, seeds, **kwargs)
 
-    monkeypatch.setattr(evaluate_module, "run_episodes", counting)
+    monkeypatch.setattr(evaluate_module, "evaluate_agent", counting)
     again = _evaluate(resumed, agents)
     first = VALIDATION[0]
     assert ran == [("oracle", first + 1), ("oracle", first + 2)]

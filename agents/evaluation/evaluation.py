@@ -42,7 +42,7 @@ from agents.evaluation.episodes_csv import (
 from agents.evaluation.fingerprints import code_fingerprints
 from agents.evaluation.gifs import gif_drawn_by, gif_provenance, record_gif
 from agents.evaluation.report import markdown_table, plot_learning_curves, plot_steps, plot_success
-from agents.rollout import run_episodes
+from agents.rollout import evaluate_agent
 from agents.run_dir import write_atomically
 from agents.scripted import SCRIPTED_AGENTS
 from tactile_search.benchmark.statistics import Summary, summarize
@@ -178,7 +178,7 @@ def evaluate(
 
             todo = [seed for seed in seeds if (name, seed) not in done]
             if todo:
-                run_episodes(agent, todo, on_episode=keep, **env_kwargs)
+                evaluate_agent(agent, todo, on_episode=keep, **env_kwargs)
             results = ordered(name)
             summaries.append(summarize(name, map_mode, results))
             all_episodes.append(results)

@@ -107,10 +107,10 @@ def evaluate_shard(
     spec: str, files: dict[str, bytes] | None, seeds: list[int]
 ) -> list[dict[str, Any]]:
     """One episode per seed of the agent ``spec`` (a scripted name, or a run whose ``files``
-    are given), as ``agents.rollout.run_episodes`` summarises them. Uses one torch
+    are given), as ``agents.rollout.evaluate_agent`` summarises them. Uses one torch
     thread, as ``agents.evaluation.evaluation.evaluate`` does."""
     from agents.evaluation.agent_specs import make_agent
-    from agents.rollout import run_episodes
+    from agents.rollout import evaluate_agent
 
     if files is None:
         agent, env_kwargs = make_agent(spec)
@@ -125,7 +125,8 @@ def evaluate_shard(
                 (Path(tmp) / name).write_bytes(content)
             agent = LearnedAgent(Path(tmp))  # holds the model in memory from here on
         env_kwargs = agent.env_kwargs
-    return run_episodes(agent, seeds, **env_kwargs)
+    # One episode at a time on one thread: the task declares one CPU.
+    return evaluate_agent(agent, seeds, num_envs=1, threads=1, **env_kwargs)
 
 
 def shards(seeds: list[int], size: int) -> list[list[int]]:

@@ -127,11 +127,25 @@ class LearnedAgent:
         if not self.deterministic:
             import torch
 
-            torch.manual_seed(env.np_random_seed)
+            # The samples' stream: torch's generator seeded with the layout seed, kept by
+            # this agent (``act`` swaps it in and out), so that copies of the agent playing
+            # episodes side by side each draw what one agent alone would.
+            self._torch_rng = torch.Generator().manual_seed(env.np_random_seed).get_state()
         self._state = None
         self._episode_start = np.ones((1,), dtype=bool)
 
     def act(self, observation: dict) -> np.ndarray:
+        if self.deterministic:
+            return self._predict(observation)
+        import torch
+
+        with torch.random.fork_rng(devices=[]):
+            torch.set_rng_state(self._torch_rng)
+            action = self._predict(observation)
+            self._torch_rng = torch.get_rng_state()
+        return action
+
+    def _predict(self, observation: dict) -> np.ndarray:
         if self._recurrent:
             action, self._state = self.model.predict(
                 observation,

@@ -20,6 +20,8 @@ from typing import Any
 import numpy as np
 
 from tactile_search.benchmark.statistics import Summary, summarize
+from tactile_search.envs.config import config_for
+from tactile_search.envs.sub_env import SubEnv
 from tactile_search.envs.vector import CupboardSearchVectorEnv
 from tactile_search.seed_ranges import TEST, held_out_seeds
 
@@ -75,7 +77,8 @@ def evaluate(
         policy: a callable from one env's observation (a dict of arrays) to its action; if
             it also has ``reset(observation, info)``, that is called at each episode's start
             and every slot of the vector env gets its own ``copy.deepcopy`` of it (a stateful
-            policy never sees two episodes at once).
+            policy never sees two episodes at once; it must start each episode afresh in
+            ``reset``, since a slot's copy plays its episodes one after another).
         split: ``"validation"`` (every choice is made here) or ``"test"`` (held out for a
             final result: only with ``final=True``).
         episodes: layouts, the split's first seeds.
@@ -96,59 +99,87 @@ def evaluate(
     if not callable(policy):
         raise TypeError(f"policy must be callable (observation -> action), got {policy!r}")
     seeds = held_out_seeds(split, episodes)
-    if num_envs is None:
-        num_envs = min(len(seeds), os.cpu_count() or 1)
-    vector = CupboardSearchVectorEnv(
-        num_envs=num_envs, autoreset_mode="disabled", copy=True, **env_kwargs
-    )
-    try:
-        rows = _run(vector, policy, seeds, _progress(len(seeds), progress))
-    finally:
-        vector.close()
+    stateful = callable(getattr(policy, "reset", None))
+    rows = run_on_seeds(
+        lambda sub_env: copy.deepcopy(policy) if stateful else policy,
+        seeds, num_envs=num_envs, progress=progress, **env_kwargs,
+    )  # fmt: skip
     agent = (
-        name
-        or getattr(policy, "name", None)
-        or getattr(policy, "__name__", None)
+        name or getattr(policy, "name", None) or getattr(policy, "__name__", None)
         or type(policy).__name__
-    )
+    )  # fmt: skip
+    map_mode = config_for("evaluate", env_kwargs).map
     return BenchmarkResult(
         rows=rows,
-        summary=summarize(str(agent), vector.config.map, rows),
+        summary=summarize(str(agent), map_mode, rows),
         split=split,
         env_kwargs=dict(env_kwargs),
     )
 
 
-class _Slot:
-    """One sub-env's episode in progress: its seed, policy, steps and return."""
+def run_on_seeds(
+    make_policy: Callable[[SubEnv], Any],
+    seeds: Sequence[int],
+    *,
+    num_envs: int | None = None,
+    on_episode: Callable[[dict[str, Any]], None] | None = None,
+    progress: bool = False,
+    **env_kwargs: Any,
+) -> list[dict[str, Any]]:
+    """One episode per layout seed on the vector env; their rows in the order of ``seeds``.
 
-    def __init__(self, seed: int | None, policy: Any) -> None:
+    ``make_policy(sub_env)`` gives the policy of one slot of the vector env (called once per
+    slot; ``sub_env`` is that slot's ``SubEnv``, for agents that read the env's geometry,
+    decoders or oracle); its ``reset(observation, info)``, if any, is called at each of the
+    slot's episodes' start. ``on_episode(row)`` is called as each episode ends (rows come in
+    the order episodes end). ``evaluate`` is this on a split's seeds, with a summary."""
+    if not seeds:
+        return []
+    if num_envs is None:
+        num_envs = min(len(seeds), os.cpu_count() or 1)
+    vector = CupboardSearchVectorEnv(
+        num_envs=num_envs, autoreset_mode="disabled", copy=True, **env_kwargs
+    )
+    tick = _progress(len(seeds), progress)
+
+    def finished(row: dict[str, Any]) -> None:
+        tick()
+        if on_episode is not None:
+            on_episode(row)
+
+    try:
+        policies = [make_policy(vector.sub_env(i)) for i in range(num_envs)]
+        return _run(vector, policies, list(seeds), finished)
+    finally:
+        vector.close()
+
+
+class _Slot:
+    """One sub-env's episode in progress: its seed, steps and return."""
+
+    def __init__(self, seed: int | None) -> None:
         self.seed = seed  # None: no seed left, the slot only idles
-        self.policy = policy
         self.actions = 0
         self.reward = 0.0
 
 
 def _run(
-    vector: CupboardSearchVectorEnv, policy: Any, seeds: Sequence[int], tick: Callable[[], None]
-) -> list[dict[str, Any]]:
-    stateful = callable(getattr(policy, "reset", None))
+    vector: CupboardSearchVectorEnv, policies: list[Any], seeds: list[int],
+    finished: Callable[[dict[str, Any]], None],
+) -> list[dict[str, Any]]:  # fmt: skip
     queue = list(seeds)
     first = queue[: vector.num_envs]
     del queue[: vector.num_envs]
     # Slots beyond the episodes (fewer episodes than envs) idle on the first layout.
     layouts = first + [first[0]] * (vector.num_envs - len(first))
     observation, info = vector.reset(seed=layouts)
-    slots = [
-        _Slot(seed if i < len(first) else None, copy.deepcopy(policy) if stateful else policy)
-        for i, seed in enumerate(layouts)
-    ]
-    for i, slot in enumerate(slots):
-        _begin(slot, observation, info, i)
+    slots = [_Slot(seed if i < len(first) else None) for i, seed in enumerate(layouts)]
+    for i, policy in enumerate(policies):
+        _begin(policy, observation, info, i)
     rows: dict[int, dict[str, Any]] = {}
     while len(rows) < len(seeds):
         actions = np.stack(
-            [np.asarray(slot.policy(_row(observation, i))) for i, slot in enumerate(slots)]
+            [np.asarray(policy(_row(observation, i))) for i, policy in enumerate(policies)]
         )
         observation, reward, terminated, truncated, info = vector.step(actions)
         ended = terminated | truncated
@@ -157,31 +188,30 @@ def _run(
             slot.reward += float(reward[i])
             if ended[i] and slot.seed is not None:
                 rows[slot.seed] = episode_row(slot.seed, _row(info, i), slot.actions, slot.reward)
-                tick()
+                finished(rows[slot.seed])
         if ended.any():
-            observation, info = _next_episodes(vector, slots, ended, queue, stateful, policy)
+            observation, info = _next_episodes(vector, policies, slots, ended, queue)
     return [rows[seed] for seed in seeds]
 
 
 def _next_episodes(
-    vector: CupboardSearchVectorEnv, slots: list[_Slot], ended: np.ndarray,
-    queue: list[int], stateful: bool, policy: Any,
+    vector: CupboardSearchVectorEnv, policies: list[Any], slots: list[_Slot],
+    ended: np.ndarray, queue: list[int],
 ) -> tuple[dict, dict]:  # fmt: skip
     """Resets the ended slots onto the next seeds (or their own layout, to idle)."""
     layouts: list[int | None] = [None] * len(slots)
     for i in np.flatnonzero(ended).tolist():
         next_seed = queue.pop(0) if queue else None
         layouts[i] = next_seed if next_seed is not None else vector._log.seeds[i]
-        fresh = copy.deepcopy(policy) if stateful else policy
-        slots[i] = _Slot(next_seed, fresh)
+        slots[i] = _Slot(next_seed)
     observation, info = vector.reset(seed=layouts, options={"reset_mask": ended.copy()})
     for i in np.flatnonzero(ended).tolist():
-        _begin(slots[i], observation, info, i)
+        _begin(policies[i], observation, info, i)
     return observation, info
 
 
-def _begin(slot: _Slot, observation: dict, info: dict, index: int) -> None:
-    reset = getattr(slot.policy, "reset", None)
+def _begin(policy: Any, observation: dict, info: dict, index: int) -> None:
+    reset = getattr(policy, "reset", None)
     if callable(reset):
         reset(_row(observation, index), _row(info, index))
 

@@ -46,6 +46,7 @@ from tactile_search.envs.config import (
 )
 from tactile_search.envs.cupboard_search import CupboardSearchEnv, action_space, observation_space
 from tactile_search.envs.episode_log import EpisodeLog
+from tactile_search.envs.sub_env import SubEnv
 from tactile_search.envs.time_limit import DeclaredTimeLimit
 
 #: The layout-seed range of ``gymnasium.make``'s env: its ``reset()`` draws from it.
@@ -359,6 +360,10 @@ class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
         if self.render_mode is None:
             return None
         return tuple(episode_frame(self._batch, self.config.map, i) for i in range(self.num_envs))
+
+    def sub_env(self, index: int) -> SubEnv:
+        """Episode ``index`` with the single env's read-only methods (``envs/sub_env.py``)."""
+        return SubEnv(self, index)
 
     def oracle_actions(self) -> np.ndarray:
         """Actions ``(num_envs, 3)`` of a scripted searcher that knows each target."""
