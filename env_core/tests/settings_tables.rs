@@ -74,9 +74,12 @@ fn every_bad_value_names_its_key<C: Settings>() {
             "{}: {error}",
             setting.key
         );
+        // The rule in Python's words: ">= 1", "from 0 to 1", "> 0 and <= 100".
         assert!(
-            error.to_string().contains(&setting.range.to_string())
-                || error.to_string().contains("pair")
+            error.to_string().contains(&setting.range.words())
+                || error.to_string().contains("pair"),
+            "{}: {error}",
+            setting.key
         );
     }
 }
