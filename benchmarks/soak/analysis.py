@@ -14,7 +14,7 @@ It asserts (each check prints PASS or FAIL, and the exit status is 1 if any fail
 
   - no leak: the live heap, glibc's ``mallinfo2()`` through ctypes (in-use chunks
     ``uordblks`` plus mmapped blocks ``hblkhd``, over every arena): bytes still allocated.
-    Its largest value after the warm-up at most 5 % above the last warm-up round's peak.
+    Its largest value after the warm-up at most 2 % above the last warm-up round's peak.
     Without glibc (or before 2.33) it is skipped with a printed note. Python's small objects
     live in pymalloc's own arenas, outside malloc: ``sys.getallocatedblocks()`` is printed
     beside it;

@@ -17,13 +17,16 @@
   ``max_rows``, checked, cleared and refilled (``fill_gpis``);
 - a few envs of every kind built, stepped and closed each round (``churn``).
 
-Every long-lived env is parked when its work is done: reset on the same layouts (the soak's
-first seeds) before the next memory sample. An env holds its last episode (a GPIS map of as
-many rows as that episode gathered) until its next reset, so without parking each sample
-would count one arbitrary episode per env, and the heap would swing from round to round
-with the episodes' lengths rather than with leaks or fragmentation (seen on the full soak:
-the live heap up 6 % in rounds 5-7 and back by round 8). Parked, every sample sees every
-env not in use in the same state.
+Every long-lived env is parked when its work is done: reset twice on the same layouts (the
+soak's first seeds) before the next memory sample. An env holds its last episode until its
+next reset, and a reset GPIS map keeps the storage its previous episode needed (rounded up
+to a power of two rows, ``Gpis::clear``), so a sample after one reset still depends on the
+episode before: 3.1 MiB more after an episode of 129+ rows than after one of 128 (default
+grid). Without parking, or with one reset, the heap swung by those steps from sample to
+sample and round to round, with the episodes' lengths rather than with leaks or
+fragmentation (the full soak: live heap end of round 168.3-179.2 MiB, per-round peaks
+183.7-203.8). After the second reset the map keeps the parking episode's own storage, so
+every sample sees every env not in use in the same state.
 """
 
 from __future__ import annotations
@@ -358,13 +361,15 @@ class Soak(Records):
 
     # ---- parking -------------------------------------------------------------------------
     def park(self, config: Config) -> None:
-        """Resets ``config``'s env on the parking layouts (the soak's first seeds, one per
-        sub-env), so that it holds the same episode at every memory sample (see the package
-        docstring)."""
-        if config.num_envs is None:
-            config.env.reset(seed=self.seed_base)
-        else:
-            config.env.reset(seed=list(range(self.seed_base, self.seed_base + config.num_envs)))
+        """Resets ``config``'s env twice on the parking layouts (the soak's first seeds, one
+        per sub-env), so that it holds the same episode and storage at every memory sample
+        (see the module docstring)."""
+        for _ in range(2):
+            if config.num_envs is None:
+                config.env.reset(seed=self.seed_base)
+            else:
+                seeds = list(range(self.seed_base, self.seed_base + config.num_envs))
+                config.env.reset(seed=seeds)
 
     # ---- the run -------------------------------------------------------------------------
     def build_envs(self) -> None:
