@@ -123,3 +123,24 @@ def test_pickled_sb3_vec_env_continues_as_the_original() -> None:
             np.testing.assert_array_equal(ours[0][key], theirs[0][key], err_msg=f"{step}")
         np.testing.assert_array_equal(ours[1], theirs[1])
         np.testing.assert_array_equal(ours[2], theirs[2])
+
+
+def test_vec_video_recorder_records_the_sb3_vec_env(tmp_path) -> None:
+    pytest.importorskip("moviepy")  # VecVideoRecorder writes with it (the dev extra has it)
+    import numpy as np
+    from stable_baselines3.common.vec_env import VecVideoRecorder
+
+    from tactile_search.envs.sb3_vec_env import CupboardSearchSb3VecEnv
+
+    env = VecVideoRecorder(
+        CupboardSearchSb3VecEnv(num_envs=2, seed=0, map="none", render_mode="rgb_array"),
+        str(tmp_path),
+        record_video_trigger=lambda step: step == 0,
+        video_length=5,
+    )
+    env.reset()
+    for _ in range(6):
+        env.step(np.zeros((2, 3)))
+    env.close()
+    (video,) = tmp_path.glob("*.mp4")
+    assert video.stat().st_size > 0

@@ -232,3 +232,23 @@ def test_bad_reset_masks_are_refused(mask: Any, error: type) -> None:
     vector = CupboardSearchVectorEnv(num_envs=NUM_ENVS)
     with pytest.raises(error, match="reset_mask"):
         vector.reset(options={"reset_mask": mask})
+
+
+def test_gymnasiums_vector_record_video_and_episode_statistics_run_on_it(tmp_path: Any) -> None:
+    pytest.importorskip("moviepy")  # RecordVideo writes with it (the dev extra has it)
+    from gymnasium.wrappers.vector import RecordEpisodeStatistics, RecordVideo
+
+    vector = gym.make_vec(
+        ENV_ID, num_envs=2, vectorization_mode="vector_entry_point", render_mode="rgb_array",
+        map="none", max_steps=4,
+    )  # fmt: skip
+    vector = RecordEpisodeStatistics(RecordVideo(vector, str(tmp_path), video_length=6))
+    vector.reset(seed=0)
+    ended = []
+    for _ in range(6):
+        *_, info = vector.step(np.zeros((2, 3)))
+        if "episode" in info:
+            ended.append(info["_episode"].copy())
+    vector.close()
+    assert list(tmp_path.glob("*.mp4"))
+    assert ended and ended[0].all()  # both episodes ended together at max_steps
