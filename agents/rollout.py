@@ -108,9 +108,8 @@ def evaluate_agent(
     ``run_episodes`` gives, one per seed in order (``on_episode`` as each ends). Slot 0 plays
     ``agent`` itself, the others copies of it; each episode starts with the agent's
     ``reset``, so an agent's episodes do not depend on which slot or what came before."""
-    copies = iter([agent])
 
     def make_policy(sub_env: Any) -> AgentPolicy:
-        return AgentPolicy(next(copies, None) or copy.deepcopy(agent), sub_env)
+        return AgentPolicy(agent if sub_env.index == 0 else copy.deepcopy(agent), sub_env)
 
     return run_on_seeds(make_policy, seeds, num_envs=num_envs, on_episode=on_episode, **env_kwargs)

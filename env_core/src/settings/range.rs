@@ -83,9 +83,7 @@ impl Range {
         };
         value.is_finite() && above && below
     }
-}
 
-impl Range {
     /// The rule in Python's words, for error messages: `>= 1`, `> 0`, `from 0 to 1`,
     /// `> 0 and <= 100`, `finite`.
     pub fn words(&self) -> String {

@@ -134,12 +134,17 @@ impl SettingType for f64 {
     }
 }
 
+/// A count's rule, type and range in one phrase: `an int >= 1`.
+fn count_rule(range: &Range) -> String {
+    format!("an int {}", range.words())
+}
+
 impl SettingType for usize {
     const ANNOTATION: &'static str = "int";
     const EXPECTED: &'static str = "a non-negative int";
 
     fn rule(range: &Range) -> Option<String> {
-        Some(format!("an int {}", range.words()))
+        Some(count_rule(range))
     }
 
     fn from_value(key: &'static str, value: &SettingValue) -> Result<Self, SettingError> {
@@ -161,7 +166,7 @@ impl SettingType for usize {
         } else {
             Err(SettingError::out_of_range(
                 key,
-                format!("an int {}", range.words()),
+                count_rule(range),
                 self.to_value(),
             ))
         }

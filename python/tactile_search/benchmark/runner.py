@@ -155,10 +155,12 @@ def run_on_seeds(
 
 
 class _Slot:
-    """One sub-env's episode in progress: its seed, steps and return."""
+    """One sub-env's episode in progress: its layout, its seed in the evaluation (None: no
+    seed left, the slot only idles on ``layout``), steps and return."""
 
-    def __init__(self, seed: int | None) -> None:
-        self.seed = seed  # None: no seed left, the slot only idles
+    def __init__(self, layout: int, seed: int | None) -> None:
+        self.layout = layout
+        self.seed = seed
         self.actions = 0
         self.reward = 0.0
 
@@ -173,7 +175,7 @@ def _run(
     # Slots beyond the episodes (fewer episodes than envs) idle on the first layout.
     layouts = first + [first[0]] * (vector.num_envs - len(first))
     observation, info = vector.reset(seed=layouts)
-    slots = [_Slot(seed if i < len(first) else None) for i, seed in enumerate(layouts)]
+    slots = [_Slot(layout, layout if i < len(first) else None) for i, layout in enumerate(layouts)]
     for i, policy in enumerate(policies):
         _begin(policy, observation, info, i)
     rows: dict[int, dict[str, Any]] = {}
@@ -202,8 +204,8 @@ def _next_episodes(
     layouts: list[int | None] = [None] * len(slots)
     for i in np.flatnonzero(ended).tolist():
         next_seed = queue.pop(0) if queue else None
-        layouts[i] = next_seed if next_seed is not None else vector._log.seeds[i]
-        slots[i] = _Slot(next_seed)
+        slots[i] = _Slot(slots[i].layout if next_seed is None else next_seed, next_seed)
+        layouts[i] = slots[i].layout
     observation, info = vector.reset(seed=layouts, options={"reset_mask": ended.copy()})
     for i in np.flatnonzero(ended).tolist():
         _begin(policies[i], observation, info, i)

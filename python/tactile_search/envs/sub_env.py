@@ -2,20 +2,20 @@
 
 A planner or a learned agent reads more than the observation: the env's settings and static
 geometry, the core's decoders of the observation, an oracle's action, its episode's seed.
-``vector.sub_env(i)`` gives episode ``i`` of the batch those read-only methods of
-``CupboardSearchEnv``, so that an agent written against the single env runs unchanged in a
-slot of the vector env (``tactile_search.benchmark`` runs agents that way). It never steps
-or resets: the vector env does.
+``vector.sub_env(i)`` gives episode ``i`` of the batch the single env's read-only methods
+(``EpisodeReads``, the same code), so that an agent written against ``CupboardSearchEnv``
+runs unchanged in a slot of the vector env (``tactile_search.benchmark`` runs agents that
+way). It never steps or resets: the vector env does.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
+from tactile_search.envs.episode_reads import EpisodeReads
 
 
-class SubEnv:
+class SubEnv(EpisodeReads):
     """Episode ``index`` of ``vector`` (see the module docstring)."""
 
     def __init__(self, vector: Any, index: int) -> None:
@@ -23,6 +23,14 @@ class SubEnv:
             raise ValueError(f"index must be from 0 to {vector.num_envs - 1}, got {index}")
         self._vector = vector
         self.index = index
+
+    @property
+    def _batch(self) -> Any:  # type: ignore[override]
+        return self._vector._batch
+
+    @property
+    def _episode_index(self) -> int:  # type: ignore[override]
+        return self.index
 
     @property
     def unwrapped(self) -> SubEnv:
@@ -44,27 +52,3 @@ class SubEnv:
     def np_random_seed(self) -> int:
         """The seed of this episode's generator: its layout seed when reset with one."""
         return self._vector.np_random_seed[self.index]
-
-    def oracle_action(self) -> np.ndarray:
-        """As ``CupboardSearchEnv.oracle_action``, for this episode."""
-        return self._vector._batch.oracle_actions()[self.index].astype(np.float32)
-
-    def last_motions(self) -> np.ndarray:
-        """As ``CupboardSearchEnv.last_motions``, for this episode."""
-        return self._vector._batch.last_motions(self.index)
-
-    def decode_map(self, image: np.ndarray) -> dict[str, np.ndarray]:
-        """As ``CupboardSearchEnv.decode_map``."""
-        return self._vector._batch.decode_map(image)
-
-    def decode_proprio(self, proprio: np.ndarray) -> dict[str, Any]:
-        """As ``CupboardSearchEnv.decode_proprio``."""
-        return self._vector._batch.decode_proprio(proprio)
-
-    def geometry(self) -> dict[str, Any]:
-        """As ``CupboardSearchEnv.geometry``."""
-        return self._vector._batch.geometry()
-
-    def render_state(self) -> dict[str, Any]:
-        """As ``CupboardSearchEnv.render_state``, for this episode (ground truth)."""
-        return self._vector._batch.render_state(self.index)
