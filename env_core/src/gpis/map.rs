@@ -142,7 +142,10 @@ pub struct Prediction {
 #[derive(Debug)]
 pub struct Gpis {
     grid: GridSpec,
-    cells: Vec<[f64; 2]>,
+    /// The cell centres' x and y coordinates, row-major, as two slices (the kernel columns
+    /// vectorise over them).
+    cell_xs: Vec<f64>,
+    cell_ys: Vec<f64>,
     kernel: ThinPlateKernel,
     prior_mean: f64,
     max_rows: usize,
@@ -167,7 +170,8 @@ impl Clone for Gpis {
     fn clone(&self) -> Self {
         let mut copy = Self {
             grid: self.grid.clone(),
-            cells: self.cells.clone(),
+            cell_xs: self.cell_xs.clone(),
+            cell_ys: self.cell_ys.clone(),
             kernel: self.kernel,
             prior_mean: self.prior_mean,
             max_rows: self.max_rows,
@@ -217,16 +221,20 @@ impl Gpis {
             what: "grid",
             gigabytes: gigabytes_of_f64s(4.0 * n_cells as f64),
         };
-        let mut cells = Vec::new();
-        cells.try_reserve_exact(n_cells).map_err(out_of_memory)?;
-        cells.extend(grid.cell_centres_iter());
+        let mut cell_xs = Vec::new();
+        cell_xs.try_reserve_exact(n_cells).map_err(out_of_memory)?;
+        cell_xs.extend(grid.cell_centres_iter().map(|c| c[0]));
+        let mut cell_ys = Vec::new();
+        cell_ys.try_reserve_exact(n_cells).map_err(out_of_memory)?;
+        cell_ys.extend(grid.cell_centres_iter().map(|c| c[1]));
         let mut mean = Vec::new();
         mean.try_reserve_exact(n_cells).map_err(out_of_memory)?;
         let mut variance = Vec::new();
         variance.try_reserve_exact(n_cells).map_err(out_of_memory)?;
         let mut map = Self {
             grid,
-            cells,
+            cell_xs,
+            cell_ys,
             kernel: ThinPlateKernel::new(psi),
             prior_mean: config.prior_mean,
             max_rows: config.max_rows,
@@ -249,7 +257,7 @@ impl Gpis {
     /// is released, so a map reused across episodes holds what its last episode needed, not
     /// the most any episode ever did (a soak of 10^6 steps saw memory creep otherwise).
     pub fn clear(&mut self) {
-        let n_cells = self.cells.len();
+        let n_cells = self.cell_xs.len();
         let kept = self.rows.len().next_power_of_two().max(MIN_CAPACITY);
         self.rows.clear();
         self.observed.clear();
@@ -327,8 +335,8 @@ impl Gpis {
     /// Bytes held by the map's numeric state (factor, grid cache, grids, row data).
     pub fn memory_bytes(&self) -> usize {
         let f64s = self.capacity * self.capacity
-            + self.cells.len() * self.capacity
-            + self.cells.len() * 4
+            + self.cell_xs.len() * self.capacity
+            + self.cell_xs.len() * 4
             + self.rows.capacity() * 2
             + self.observed.capacity()
             + self.noise_var.capacity()
@@ -471,17 +479,17 @@ impl Gpis {
             .min(self.max_rows);
         let out_of_memory = |_| GpisError::OutOfMemory {
             what: "factor and grid cache",
-            gigabytes: gigabytes_of_f64s(capacity as f64 * (capacity + self.cells.len()) as f64),
+            gigabytes: gigabytes_of_f64s(capacity as f64 * (capacity + self.cell_xs.len()) as f64),
         };
         self.chol
             .try_reserve(capacity, capacity)
             .map_err(out_of_memory)?;
         self.grid_cache_t
-            .try_reserve(self.cells.len(), capacity)
+            .try_reserve(self.cell_xs.len(), capacity)
             .map_err(out_of_memory)?;
         // Reserved above: this fills the new columns without reallocating.
         self.grid_cache_t
-            .resize_with(self.cells.len(), capacity, |_, _| 0.0);
+            .resize_with(self.cell_xs.len(), capacity, |_, _| 0.0);
         self.capacity = capacity;
         Ok(())
     }
@@ -594,7 +602,7 @@ impl Gpis {
             return;
         }
         let kernel = self.kernel;
-        let n_cells = self.cells.len();
+        let n_cells = self.cell_xs.len();
         let l21 = self.chol.as_ref().submatrix(held, 0, k, held);
         let l22 = self.chol.as_ref().submatrix(held, held, k, k);
         // `add` reserved storage for every row it could add.
@@ -606,7 +614,8 @@ impl Gpis {
             let mut tile = cache_new.rb_mut().subrows_mut(first, cells);
             for (c, row) in self.rows[held..].iter().enumerate() {
                 kernel.value_column(
-                    &self.cells[first..first + cells],
+                    &self.cell_xs[first..first + cells],
+                    &self.cell_ys[first..first + cells],
                     row.point,
                     row.kind,
                     column_mut(&mut tile, c),
@@ -696,7 +705,7 @@ impl Gpis {
             &self.rows,
             &self.observed,
             &self.noise_var,
-            &self.cells,
+            &self.grid.cell_centres_iter().collect::<Vec<_>>(),
         )
     }
 }
