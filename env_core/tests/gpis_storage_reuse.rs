@@ -47,14 +47,14 @@ fn clearing_releases_storage_a_large_map_grew_and_keeps_what_the_last_one_used()
     reused.add_values(&points(900), None, 1e-3).unwrap();
     let large = reused.memory_bytes();
     assert!(large > 4 * small, "{large} vs {small}");
-    reused.clear(); // held 900 rows: keeps storage for 1024
+    reused.clear(); // held 900 rows: keeps storage for 1350 (2048, capped at max_rows)
     reused.add_values(&points(100), None, 1e-3).unwrap();
     assert_eq!(
         reused.memory_bytes(),
         large,
         "storage the last use needed is kept"
     );
-    reused.clear(); // held 100 rows: keeps storage for 128, releases the rest
+    reused.clear(); // held 100 rows: keeps storage for 150 (256), releases the rest
     assert!(
         4 * reused.memory_bytes() < large,
         "{} vs {large}",
@@ -67,4 +67,21 @@ fn clearing_releases_storage_a_large_map_grew_and_keeps_what_the_last_one_used()
     reused.add_values(&points(100), None, 1e-3).unwrap();
     reused.clear();
     assert_eq!(reused.memory_bytes(), steady);
+}
+
+/// An episode's map holds its prior (128 rows at the defaults) and then a few touches, or
+/// none: uses alternating between just under and just over a power of two keep one storage
+/// instead of growing it in one episode and giving it back at the next clear.
+#[test]
+fn uses_alternating_around_a_power_of_two_keep_one_storage() {
+    let mut reused = map();
+    reused.add_values(&points(128), None, 1e-3).unwrap();
+    let prior_only = reused.memory_bytes();
+    reused.add_values(&points(140)[128..], None, 1e-3).unwrap();
+    assert_eq!(reused.memory_bytes(), prior_only, "a few touches need no growth");
+    for rows in [128, 135, 120, 140, 128] {
+        reused.clear();
+        reused.add_values(&points(rows), None, 1e-3).unwrap();
+        assert_eq!(reused.memory_bytes(), prior_only, "{rows} rows");
+    }
 }

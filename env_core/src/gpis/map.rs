@@ -58,6 +58,16 @@ const CELL_TILE: usize = 256;
 /// Smallest row capacity allocated once the first row arrives.
 const MIN_CAPACITY: usize = 64;
 
+/// The row capacity storage is sized for when `rows` rows must fit: half as many again, as
+/// headroom, rounded up to a power of two (so that a map's storage takes few sizes). The
+/// headroom matters for the episode's map: its depth prior alone fills 128 rows at the
+/// defaults, and without room to spare nearly half the episodes grew the storage to 256 rows
+/// with their first touches (a fresh 6.5 MB grid cache: page faults and a copy) and the next
+/// `clear` gave it back, a fifth of a random probe's time in the kernel's page handling.
+fn capacity_for(rows: usize) -> usize {
+    (rows + rows / 2).next_power_of_two().max(MIN_CAPACITY)
+}
+
 /// The gigabytes (1e9 bytes) that `count` f64s take.
 fn gigabytes_of_f64s(count: f64) -> f64 {
     count * std::mem::size_of::<f64>() as f64 / 1e9
@@ -252,13 +262,13 @@ impl Gpis {
         Ok(map)
     }
 
-    /// Forgets every observation, keeping storage for reuse: as many rows as the map held
-    /// (rounded up to a power of two). Storage beyond that, grown by an unusually large map,
-    /// is released, so a map reused across episodes holds what its last episode needed, not
-    /// the most any episode ever did (a soak of 10^6 steps saw memory creep otherwise).
+    /// Forgets every observation, keeping storage for reuse: [`capacity_for`] as many rows
+    /// as the map held. Storage of twice that or more, grown by an unusually large map, is
+    /// released, so a map reused across episodes holds what its last episode needed, not the
+    /// most any episode ever did (a soak of 10^6 steps saw memory creep otherwise).
     pub fn clear(&mut self) {
         let n_cells = self.cell_xs.len();
-        let kept = self.rows.len().next_power_of_two().max(MIN_CAPACITY);
+        let kept = capacity_for(self.rows.len());
         self.rows.clear();
         self.observed.clear();
         self.noise_var.clear();
@@ -470,12 +480,9 @@ impl Gpis {
         if rows <= self.capacity {
             return Ok(());
         }
-        // Powers of two from MIN_CAPACITY, so that a map's storage takes few sizes (and
-        // `clear` keeps the power of two its last use needed).
-        let capacity = rows
-            .next_power_of_two()
+        // `clear` keeps what `capacity_for` gives for its last use's rows.
+        let capacity = capacity_for(rows)
             .max(2 * self.capacity)
-            .max(MIN_CAPACITY)
             .min(self.max_rows);
         let out_of_memory = |_| GpisError::OutOfMemory {
             what: "factor and grid cache",
@@ -490,6 +497,16 @@ impl Gpis {
         // Reserved above: this fills the new columns without reallocating.
         self.grid_cache_t
             .resize_with(self.cell_xs.len(), capacity, |_, _| 0.0);
+        // The per-row data too, so that the storage is the capacity's, whatever the pushes.
+        let spare = capacity - self.rows.len();
+        let out_of_memory = |_| GpisError::OutOfMemory {
+            what: "row data",
+            gigabytes: gigabytes_of_f64s(6.0 * capacity as f64),
+        };
+        self.rows.try_reserve_exact(spare).map_err(out_of_memory)?;
+        self.observed.try_reserve_exact(spare).map_err(out_of_memory)?;
+        self.noise_var.try_reserve_exact(spare).map_err(out_of_memory)?;
+        self.beta.try_reserve_exact(spare).map_err(out_of_memory)?;
         self.capacity = capacity;
         Ok(())
     }
