@@ -105,6 +105,6 @@ def test_run_episodes_summarises_each_seed() -> None:
 
 
 def test_registry_builds_every_scripted_agent() -> None:
-    assert set(SCRIPTED_AGENTS) == {"random", "oracle", "gpis_planner"}
+    assert set(SCRIPTED_AGENTS) == {"random", "oracle", "gpis_planner", "gpis_probe_planner"}
     for name, factory in SCRIPTED_AGENTS.items():
         assert factory().name == name

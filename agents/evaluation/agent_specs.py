@@ -26,7 +26,8 @@ def _deterministic(actions: str) -> bool | None:
 
 def make_agent(spec: str, actions: str = "recipe") -> tuple[Any, dict[str, Any]]:
     """An agent and the settings of the env it is evaluated in (with its ``map``) from a
-    scripted name (the GPIS map) or a run directory (its recipe's env settings without the
+    scripted name (the GPIS map, and the agent's own ``env_kwargs`` where it has them, such as
+    the probe action mode) or a run directory (its recipe's env settings without the
     reward terms: ``agents.sb3.learned.evaluation_env_kwargs``), its actions chosen as
     ``actions`` says (``ACTIONS``).
 
@@ -34,9 +35,10 @@ def make_agent(spec: str, actions: str = "recipe") -> tuple[Any, dict[str, Any]]
     episode, seeded with the episode's layout seed (``SeededPerEpisode``)."""
     if spec in SCRIPTED_AGENTS:
         factory = SCRIPTED_AGENTS[spec]
+        env_kwargs = dict(getattr(factory, "env_kwargs", {"map": "gpis"}))
         if "seed" in inspect.signature(factory).parameters:
-            return SeededPerEpisode(factory), {"map": "gpis"}
-        return factory(), {"map": "gpis"}
+            return SeededPerEpisode(factory), env_kwargs
+        return factory(), env_kwargs
     from agents.sb3.learned import LearnedAgent
 
     agent = LearnedAgent(Path(spec), deterministic=_deterministic(actions))

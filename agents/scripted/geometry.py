@@ -2,7 +2,8 @@
 
 No ground truth of an episode: every number comes from the core, from the env's settings
 alone (``CupboardSearchEnv.geometry()``: the cupboard, the camera, the hand's sizes, start
-pose and per-step bounds, the jar radius range, the map grid and its cells' centres); this
+pose and per-step bounds, the jar radius range, the map grid and its cells' centres, the
+probe action mode's probes); this
 module only gives them typed names.
 """
 
@@ -47,6 +48,15 @@ class Geometry:
     #: The map cells' centres, each (H, W): row i along y, column j along x.
     xs: np.ndarray = dataclasses.field(repr=False, compare=False)
     ys: np.ndarray = dataclasses.field(repr=False, compare=False)
+    #: The ``probe`` action mode's probes per action index: the wrist's x per lane, y per
+    #: depth and yaw at the end of each sweep (a turn towards +x is a negative yaw).
+    probe_lanes: np.ndarray = dataclasses.field(repr=False, compare=False)
+    probe_depths: np.ndarray = dataclasses.field(repr=False, compare=False)
+    probe_yaws: np.ndarray = dataclasses.field(repr=False, compare=False)
+    #: The wrist's y the probe controller backs out to before changing lanes, m.
+    probe_outside: float = dataclasses.field(compare=False)
+    #: The probe controller's turn per motion while sweeping, rad.
+    probe_sweep_rate: float = dataclasses.field(compare=False)
 
     @classmethod
     def from_env(cls, env: CupboardSearchEnv) -> Geometry:

@@ -238,24 +238,34 @@ class GpisPlanner:
         g = self.geometry
         edge = 0.5 * g.width - g.wrist_half_extent - MARGIN - g.cell
         lanes = np.arange(-edge, edge + 1e-9, LANE_STEP)
-        wrist_room = g.wrist_half_extent + MARGIN + 0.5 * g.cell
         probes = []
         for x in lanes:
-            ys = np.arange(-g.wrist_half_extent, g.depth, 0.5 * g.cell)
-            clear = field.at(np.full(ys.shape, x), ys + g.wrist_half_extent) >= wrist_room
-            clear &= field.at(np.full(ys.shape, x), ys) >= wrist_room
-            # The fingertip ahead must not run into a seen jar either.
-            clear &= solid.at(np.full(ys.shape, x), ys + g.reach) >= 0.5 * g.cell
-            stop = len(ys) if clear.all() else int(np.argmin(clear))
-            if stop == 0:
+            deepest = self._deepest_clear(field, solid, x)
+            if deepest is None:
                 continue
-            deepest = ys[stop - 1]
             depths = np.arange(deepest, 0.0, -DEPTH_STEP)
             for y in depths:
                 for side in (-1.0, 1.0):
                     angle = self._safe_angle(field, solid, x, y, side)
                     probes.append(Probe(float(x), float(y), side, angle))
         return probes
+
+    def _deepest_clear(
+        self, field: ClearanceField, solid: ClearanceField, x: float
+    ) -> float | None:
+        """The deepest wrist depth along lane ``x`` the wrist reaches without coming near a
+        cell that may hold a jar, the fingertip ahead clear of seen jars; None if the lane is
+        blocked at the opening."""
+        g = self.geometry
+        ys = np.arange(-g.wrist_half_extent, g.depth, 0.5 * g.cell)
+        lane = np.full(ys.shape, x)
+        wrist_room = g.wrist_half_extent + MARGIN + 0.5 * g.cell
+        clear = field.at(lane, ys + g.wrist_half_extent) >= wrist_room
+        clear &= field.at(lane, ys) >= wrist_room
+        # The fingertip ahead must not run into a seen jar either.
+        clear &= solid.at(lane, ys + g.reach) >= 0.5 * g.cell
+        stop = len(ys) if clear.all() else int(np.argmin(clear))
+        return None if stop == 0 else ys[stop - 1]
 
     def _safe_angle(
         self, field: ClearanceField, solid: ClearanceField, x: float, y: float, side: float

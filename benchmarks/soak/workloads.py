@@ -22,11 +22,11 @@ soak's first seeds) before the next memory sample. An env holds its last episode
 next reset, and a reset GPIS map keeps the storage its previous episode needed (half as
 many rows again, rounded up to a power of two, ``Gpis::clear``), so a sample after one reset
 still depends on the episode before (before that headroom: 3.1 MiB more after an episode of
-129+ rows than after one of 128, default grid). Without parking, or with one reset, the heap swung by those steps from sample to
-sample and round to round, with the episodes' lengths rather than with leaks or
-fragmentation (the full soak: live heap end of round 168.3-179.2 MiB, per-round peaks
-183.7-203.8). After the second reset the map keeps the parking episode's own storage, so
-every sample sees every env not in use in the same state.
+129+ rows than after one of 128, default grid). Without parking, or with one reset, the heap
+swung by those steps from sample to sample and round to round, with the episodes' lengths
+rather than with leaks or fragmentation (the full soak: live heap end of round 168.3-179.2
+MiB, per-round peaks 183.7-203.8). After the second reset the map keeps the parking
+episode's own storage, so every sample sees every env not in use in the same state.
 """
 
 from __future__ import annotations

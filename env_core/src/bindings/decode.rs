@@ -133,5 +133,11 @@ pub(super) fn geometry_dict<'py>(
     let (xs, ys) = g.cell_centres();
     d.set_item("xs", PyArray1::from_vec(py, xs).reshape([h, w])?)?;
     d.set_item("ys", PyArray1::from_vec(py, ys).reshape([h, w])?)?;
+    let probes = &g.probes;
+    d.set_item("probe_lanes", PyArray1::from_slice(py, &probes.lanes))?;
+    d.set_item("probe_depths", PyArray1::from_slice(py, &probes.depths))?;
+    d.set_item("probe_yaws", PyArray1::from_slice(py, &probes.yaws))?;
+    d.set_item("probe_outside", probes.outside)?;
+    d.set_item("probe_sweep_rate", probes.sweep_rate)?;
     Ok(d)
 }

@@ -495,7 +495,9 @@ impl PyEpisodeBatch {
 
     /// The static geometry a planner may know, from the settings alone (no scene): the
     /// cupboard, camera, hand sizes and bounds, jar radius range, map grid and its cells'
-    /// centres `xs`, `ys` (H, W).
+    /// centres `xs`, `ys` (H, W), and the `probe` action mode's probes per action index
+    /// (`probe_lanes` x, `probe_depths` y, `probe_yaws`; `probe_outside`, the y the
+    /// controller backs out to before changing lanes; `probe_sweep_rate`).
     fn geometry<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         geometry_dict(py, &self.config)
     }

@@ -108,6 +108,21 @@ pub struct Probe {
     pub yaw: f64,
 }
 
+/// The probes of a configuration by action index (see [`ProbeController::grid`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProbeGrid {
+    /// The wrist's x in each lane (the first index), m.
+    pub lanes: Vec<f64>,
+    /// The wrist's y at each depth (the second index), m.
+    pub depths: Vec<f64>,
+    /// The wrist's yaw at the end of each sweep (the third index), rad.
+    pub yaws: Vec<f64>,
+    /// The wrist's y the controller backs out to before changing lanes, m.
+    pub outside: f64,
+    /// The controller's turn per motion while sweeping, rad.
+    pub sweep_rate: f64,
+}
+
 /// Where the controller is in a probe.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Phase {
@@ -182,12 +197,40 @@ impl ProbeController {
     /// The probe an action (checked by [`ProbeController::check`]) names.
     pub fn probe(&self, action: &[f64; 3]) -> Probe {
         let [lane, depth, sweep] = action.map(|v| v as usize);
-        let c = &self.config;
-        let angle = spaced(sweep, c.sweeps, -c.max_angle, c.max_angle);
         Probe {
-            x: spaced(lane, c.lanes, -self.lane_edge, self.lane_edge),
-            y: spaced(depth, c.depths, 0.0, self.deepest),
-            yaw: -angle,
+            x: self.lane(lane),
+            y: self.depth(depth),
+            yaw: self.sweep_yaw(sweep),
+        }
+    }
+
+    /// The wrist's x in lane `index`.
+    fn lane(&self, index: usize) -> f64 {
+        spaced(index, self.config.lanes, -self.lane_edge, self.lane_edge)
+    }
+
+    /// The wrist's y at depth `index`.
+    fn depth(&self, index: usize) -> f64 {
+        spaced(index, self.config.depths, 0.0, self.deepest)
+    }
+
+    /// The wrist's yaw at the end of sweep `index` (a turn towards +x is a negative yaw).
+    fn sweep_yaw(&self, index: usize) -> f64 {
+        let c = &self.config;
+        -spaced(index, c.sweeps, -c.max_angle, c.max_angle)
+    }
+
+    /// Every probe's coordinates, per action index, as [`ProbeController::probe`] gives
+    /// them, and where the controller goes to change lanes: what a planner choosing probes
+    /// needs to know of the controller.
+    pub fn grid(&self) -> ProbeGrid {
+        let c = &self.config;
+        ProbeGrid {
+            lanes: (0..c.lanes).map(|i| self.lane(i)).collect(),
+            depths: (0..c.depths).map(|i| self.depth(i)).collect(),
+            yaws: (0..c.sweeps).map(|i| self.sweep_yaw(i)).collect(),
+            outside: self.outside,
+            sweep_rate: c.sweep_rate,
         }
     }
 
@@ -259,6 +302,27 @@ mod tests {
         assert!((first.yaw - 1.0).abs() < 1e-12 && (last.yaw + 1.0).abs() < 1e-12);
         assert_eq!(c.probe(&[14.0, 0.0, 4.0]).x, 0.0);
         assert_eq!(c.probe(&[14.0, 0.0, 4.0]).yaw, 0.0);
+    }
+
+    #[test]
+    fn the_grid_lists_every_probe_the_indices_name() {
+        let c = controller();
+        let grid = c.grid();
+        let config = ProbeConfig::default();
+        assert_eq!(
+            [grid.lanes.len(), grid.depths.len(), grid.yaws.len()],
+            config.counts()
+        );
+        for (lane, &x) in grid.lanes.iter().enumerate() {
+            for (depth, &y) in grid.depths.iter().enumerate() {
+                for (sweep, &yaw) in grid.yaws.iter().enumerate() {
+                    let probe = c.probe(&[lane as f64, depth as f64, sweep as f64]);
+                    assert_eq!(probe, Probe { x, y, yaw });
+                }
+            }
+        }
+        assert_eq!(grid.outside, c.outside);
+        assert_eq!(grid.sweep_rate, config.sweep_rate);
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! The static geometry a planner may know, from an episode's configuration alone (no scene
 //! is built, nothing of an episode's ground truth): the cupboard, the camera's position, the
 //! hand's sizes, start pose, workspace and per-step bounds, the layout's jar sizes and
-//! margins, and the map grid with its cells' centres.
+//! margins, the map grid with its cells' centres, and the `probe` action mode's probes.
 //!
 //! Every value is what the scene and the map use (they read the same settings), computed in
 //! f64 in the order the docs state, so a planner that reads it here gets the numbers, bit
@@ -10,6 +10,7 @@
 
 use super::config::EpisodeConfig;
 use super::error::EpisodeError;
+use super::probe::{ProbeController, ProbeGrid};
 use crate::gpis::GridSpec;
 use crate::scene::hand::{joint_offset, reach};
 
@@ -63,6 +64,9 @@ pub struct StaticGeometry {
     pub mean_scale: f64,
     /// Standard deviation that saturates the map's std channel.
     pub std_scale: f64,
+    /// The `probe` action mode's probes by action index, as its controller carries them out
+    /// (whatever the action mode of `config`).
+    pub probes: ProbeGrid,
 }
 
 impl StaticGeometry {
@@ -99,6 +103,13 @@ impl StaticGeometry {
             cell: scene.cupboard.depth / config.map.grid_shape.0 as f64,
             mean_scale: config.map.mean_scale,
             std_scale: config.map.std_scale,
+            probes: ProbeController::new(
+                &config.probe,
+                hand,
+                scene.cupboard.width,
+                scene.cupboard.depth,
+            )
+            .grid(),
         })
     }
 

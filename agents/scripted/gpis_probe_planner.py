@@ -1,0 +1,153 @@
+"""The GPIS planner on the agents' action interface: it chooses probes, the core drives them.
+
+``GpisPlanner`` searches by probes but drives the wrist itself, motion by motion, with its
+own controller. This agent keeps its belief and its choice of probes and hands the driving
+to the core: it runs on an env with ``action_mode="probe"`` and each action is a probe of
+the core's grid, ``(lane, depth, sweep)`` indices (``geometry()``'s ``probe_lanes``,
+``probe_depths``, ``probe_yaws``), which the core's observation-only controller carries out
+as the learned agents' probes are. A gap between this planner and a learned agent is then
+the choice of probes, not the controller.
+
+Per probe it sees one observation, after the probe. Its belief learns what the finger swept
+from the probe it chose and the pose the probe ended in (the controller's path is known: back
+out and across to change lanes, straight in along the lane, then the turn; a probe that
+touches stops there), and what it touched from the map and the contact in the observation.
+It then scores every probe of the grid the wrist and arm can make without coming near a
+cell that may hold a jar, with a sweep no wider than the largest safe turn, by the hiding
+weight its finger passes over per motion the controller will make, as ``GpisPlanner`` does
+on its own finer probes.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import ClassVar
+
+import numpy as np
+
+from agents.scripted.gpis_planner import COST_OFFSET, ClearanceField, GpisPlanner, Pose, Probe
+from tactile_search import CupboardSearchEnv
+
+# A pose is at a lane, or has not turned, within these (m, rad).
+LANE_TOL = 1e-4
+YAW_TOL = 1e-3
+
+
+class GpisProbePlanner(GpisPlanner):
+    """The GPIS-map searcher choosing the core's probes; see the module docstring."""
+
+    name = "gpis_probe_planner"
+    #: The settings of the env it runs on (an evaluation builds it with these).
+    env_kwargs: ClassVar[dict[str, str]] = {"map": "gpis", "action_mode": "probe"}
+
+    def __init__(self) -> None:
+        super().__init__()
+        self._before: Pose | None = None
+        self._chosen: tuple[int, int, int] | None = None
+
+    def reset(self, env: CupboardSearchEnv, observation: dict, info: dict) -> None:
+        if env.config.action_mode != "probe":
+            raise ValueError(
+                f"GpisProbePlanner needs action_mode='probe', got {env.config.action_mode!r}"
+            )
+        super().reset(env, observation, info)
+        self._before = self._pose(observation["proprio"])
+        self._chosen = None
+        self._remember_touch(self._before)
+
+    def act(self, observation: dict) -> np.ndarray:
+        if self.belief is None or self.geometry is None or self._before is None:
+            raise RuntimeError("call reset before act")
+        self.belief.update(self._decode_map(observation["map"]))
+        pose = self._pose(observation["proprio"])
+        if self._chosen is not None:
+            self._sweep_probe_path(self._before, self._chosen, pose)
+        # Only the finger where it is now: the path since the last observation is swept above.
+        self._last_finger = None
+        self._remember_touch(pose)
+        self._chosen = self._choose(pose)
+        self._before = pose
+        return np.array(self._chosen, dtype=np.int64)
+
+    # -- what the last probe swept -----------------------------------------------------
+
+    def _sweep_probe_path(self, before: Pose, chosen: tuple[int, int, int], after: Pose) -> None:
+        """Marks as swept the finger's path from ``before`` through probe ``chosen`` to
+        ``after``, as the core's controller drives it: straight along the lane from where
+        the wrist entered it (the opening after a lane change, else its depth before), then
+        the turn from straight to where the probe ended."""
+        g = self.geometry
+        lane_x = float(g.probe_lanes[chosen[0]])
+        if abs(after.x - lane_x) > LANE_TOL:
+            return  # stopped before reaching its lane (the hand blocked): nothing known
+        same_lane = abs(before.x - lane_x) <= LANE_TOL
+        entered_from = before.y if same_lane else g.probe_outside
+        step = min(g.max_step_translation, 0.5 * g.cell)
+        if after.y > entered_from:
+            count = max(2, math.ceil((after.y - entered_from) / step) + 1)
+            for y in np.linspace(entered_from, after.y, count):
+                self._sweep_at(lane_x, float(y), 0.0)
+        if abs(after.yaw) > YAW_TOL:
+            count = max(2, math.ceil(abs(after.yaw) / (0.5 * g.probe_sweep_rate)) + 1)
+            for yaw in np.linspace(0.0, after.yaw, count):
+                self._sweep_at(lane_x, after.y, float(yaw))
+
+    def _sweep_at(self, x: float, y: float, yaw: float) -> None:
+        g = self.geometry
+        forward = np.array([-math.sin(yaw), math.cos(yaw)])
+        joint = np.array([x, y]) + g.joint_offset * forward
+        self.belief.sweep_finger(joint, joint + g.finger_length * forward)
+
+    # -- choosing the next probe -------------------------------------------------------
+
+    def _choose(self, pose: Pose) -> tuple[int, int, int]:
+        """The grid probe with the most hiding weight under its finger per motion."""
+        g = self.geometry
+        weight = self.belief.hiding_weight()
+        if not weight.any():
+            weight = self.belief.hiding_weight(relaxed=True)
+        field = ClearanceField(self.belief, self.belief.blocked())
+        solid = ClearanceField(self.belief, self.belief.solid(0.0))
+        mask = weight > 0
+        cells = np.c_[self.belief.xs[mask], self.belief.ys[mask]]
+        weights = weight[mask]
+        # Without a probe that covers anything: straight in at the middle lane's opening.
+        best = (len(g.probe_lanes) // 2, 0, len(g.probe_yaws) // 2)
+        best_score = 0.0
+        for lane, x in enumerate(g.probe_lanes):
+            deepest = self._deepest_clear(field, solid, float(x))
+            if deepest is None:
+                continue
+            for depth, y in enumerate(g.probe_depths):
+                if y > deepest + 1e-9:
+                    break
+                safe = {
+                    side: self._safe_angle(field, solid, float(x), float(y), side)
+                    for side in (-1.0, 1.0)
+                }
+                for sweep, yaw in enumerate(g.probe_yaws):
+                    side = 1.0 if yaw < 0.0 else -1.0  # a negative yaw turns towards +x
+                    angle = abs(float(yaw))
+                    if angle > safe[side] + 1e-9:
+                        continue
+                    probe = Probe(float(x), float(y), side, angle)
+                    covered = weights[self._covers(probe, cells)].sum()
+                    score = covered / (self._motions(pose, probe, float(yaw)) + COST_OFFSET)
+                    if score > best_score:
+                        best, best_score = (lane, depth, sweep), score
+        return best
+
+    def _motions(self, pose: Pose, probe: Probe, yaw: float) -> float:
+        """The wrist motions the core's controller takes from ``pose`` to carry out
+        ``probe`` (ending at ``yaw``): turn back, back out and across to change lanes, in or
+        back along the lane, then the turn."""
+        g = self.geometry
+        step = g.max_step_translation
+        if abs(pose.x - probe.x) <= LANE_TOL:
+            if abs(pose.y - probe.y) <= LANE_TOL:
+                return abs(yaw - pose.yaw) / g.probe_sweep_rate
+            moves = abs(pose.y - probe.y) / step
+        else:
+            out = g.probe_outside
+            moves = (max(pose.y - out, 0.0) + abs(pose.x - probe.x) + abs(probe.y - out)) / step
+        return abs(pose.yaw) / g.max_step_yaw + moves + abs(yaw) / g.probe_sweep_rate
