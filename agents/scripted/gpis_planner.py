@@ -296,10 +296,11 @@ class GpisPlanner:
         ok = safe & reached
         return float(angles[ok][-1]) if ok.any() else 0.0
 
-    def _covers(self, probe: Probe, cells: np.ndarray) -> np.ndarray:
-        """Which candidate centres lie within a jar radius of the probe's finger path."""
+    def _covers(self, probe: Probe, cells: np.ndarray, hit: float | None = None) -> np.ndarray:
+        """Which candidate centres lie within ``hit`` (default the smallest jar radius) of the
+        probe's finger path."""
         g = self.geometry
-        hit = g.jar_radius[0]
+        hit = g.jar_radius[0] if hit is None else hit
         dx = (cells[:, 0] - probe.x) * probe.side
         dy = cells[:, 1] - probe.y
         straight = (np.abs(dx) <= hit) & (dy <= g.reach + hit)

@@ -20,7 +20,6 @@ on its own finer probes.
 
 from __future__ import annotations
 
-import math
 from typing import ClassVar
 
 import numpy as np
@@ -42,7 +41,6 @@ class GpisProbePlanner(GpisPlanner):
 
     def __init__(self) -> None:
         super().__init__()
-        self._before: Pose | None = None
         self._chosen: tuple[int, int, int] | None = None
 
     def reset(self, env: CupboardSearchEnv, observation: dict, info: dict) -> None:
@@ -51,52 +49,41 @@ class GpisProbePlanner(GpisPlanner):
                 f"GpisProbePlanner needs action_mode='probe', got {env.config.action_mode!r}"
             )
         super().reset(env, observation, info)
-        self._before = self._pose(observation["proprio"])
         self._chosen = None
-        self._remember_touch(self._before)
+        self._remember_touch(self._pose(observation["proprio"]))
 
     def act(self, observation: dict) -> np.ndarray:
-        if self.belief is None or self.geometry is None or self._before is None:
+        if self.belief is None or self.geometry is None:
             raise RuntimeError("call reset before act")
         self.belief.update(self._decode_map(observation["map"]))
         pose = self._pose(observation["proprio"])
         if self._chosen is not None:
-            self._sweep_probe_path(self._before, self._chosen, pose)
+            self._sweep_probe_path(self._chosen, pose)
         # Only the finger where it is now: the path since the last observation is swept above.
         self._last_finger = None
         self._remember_touch(pose)
         self._chosen = self._choose(pose)
-        self._before = pose
         return np.array(self._chosen, dtype=np.int64)
 
     # -- what the last probe swept -----------------------------------------------------
 
-    def _sweep_probe_path(self, before: Pose, chosen: tuple[int, int, int], after: Pose) -> None:
-        """Marks as swept the finger's path from ``before`` through probe ``chosen`` to
-        ``after``, as the core's controller drives it: straight along the lane from where
-        the wrist entered it (the opening after a lane change, else its depth before), then
-        the turn from straight to where the probe ended."""
+    def _sweep_probe_path(self, chosen: tuple[int, int, int], after: Pose) -> None:
+        """Marks as swept what the finger passed on its way through probe ``chosen`` to
+        ``after``, as the core's controller drives it: straight along the lane
+        to the depth the probe ended at, then the turn from straight to where it ended. The
+        cells are those the probe's score counts (``_covers`` at ``sweep_radius``), so a
+        probe that touched nothing leaves nothing it was chosen for."""
         g = self.geometry
         lane_x = float(g.probe_lanes[chosen[0]])
         if abs(after.x - lane_x) > LANE_TOL:
             return  # stopped before reaching its lane (the hand blocked): nothing known
-        same_lane = abs(before.x - lane_x) <= LANE_TOL
-        entered_from = before.y if same_lane else g.probe_outside
-        step = min(g.max_step_translation, 0.5 * g.cell)
-        if after.y > entered_from:
-            count = max(2, math.ceil((after.y - entered_from) / step) + 1)
-            for y in np.linspace(entered_from, after.y, count):
-                self._sweep_at(lane_x, float(y), 0.0)
-        if abs(after.yaw) > YAW_TOL:
-            count = max(2, math.ceil(abs(after.yaw) / (0.5 * g.probe_sweep_rate)) + 1)
-            for yaw in np.linspace(0.0, after.yaw, count):
-                self._sweep_at(lane_x, after.y, float(yaw))
-
-    def _sweep_at(self, x: float, y: float, yaw: float) -> None:
-        g = self.geometry
-        forward = np.array([-math.sin(yaw), math.cos(yaw)])
-        joint = np.array([x, y]) + g.joint_offset * forward
-        self.belief.sweep_finger(joint, joint + g.finger_length * forward)
+        side = 1.0 if after.yaw < 0.0 else -1.0  # a negative yaw turns towards +x
+        done = Probe(lane_x, after.y, side, abs(after.yaw))
+        xs, ys = self.belief.xs, self.belief.ys
+        cells = np.c_[xs.ravel(), ys.ravel()]
+        self.belief.mark_swept(
+            self._covers(done, cells, self.belief.sweep_radius()).reshape(xs.shape)
+        )
 
     # -- choosing the next probe -------------------------------------------------------
 
@@ -111,6 +98,11 @@ class GpisProbePlanner(GpisPlanner):
         mask = weight > 0
         cells = np.c_[self.belief.xs[mask], self.belief.ys[mask]]
         weights = weight[mask]
+        # Count what a probe that touches nothing clears from the belief (the cells its
+        # sweep marks), not the wider ring within a jar radius of the finger: that ring
+        # is never cleared, and counting it made a probe worth repeating, one depth up
+        # and down the same lane, until the time ran out.
+        hit = self.belief.sweep_radius()
         # Without a probe that covers anything: straight in at the middle lane's opening.
         best = (len(g.probe_lanes) // 2, 0, len(g.probe_yaws) // 2)
         best_score = 0.0
@@ -131,11 +123,22 @@ class GpisProbePlanner(GpisPlanner):
                     if angle > safe[side] + 1e-9:
                         continue
                     probe = Probe(float(x), float(y), side, angle)
-                    covered = weights[self._covers(probe, cells)].sum()
+                    if self._is_here(pose, probe, float(yaw)):
+                        continue  # a wait: the scene does not change while the hand waits
+                    covered = weights[self._covers(probe, cells, hit)].sum()
                     score = covered / (self._motions(pose, probe, float(yaw)) + COST_OFFSET)
                     if score > best_score:
                         best, best_score = (lane, depth, sweep), score
         return best
+
+    @staticmethod
+    def _is_here(pose: Pose, probe: Probe, yaw: float) -> bool:
+        """Whether the wrist is already at ``probe``'s end pose."""
+        return (
+            abs(pose.x - probe.x) <= LANE_TOL
+            and abs(pose.y - probe.y) <= LANE_TOL
+            and abs(pose.yaw - yaw) <= YAW_TOL
+        )
 
     def _motions(self, pose: Pose, probe: Probe, yaw: float) -> float:
         """The wrist motions the core's controller takes from ``pose`` to carry out

@@ -95,11 +95,19 @@ class SearchMap:
             behind.append(ranges - front[np.clip(index, 0, bins - 1)])
         return behind[0], np.minimum.reduce(behind)
 
+    def sweep_radius(self) -> float:
+        """How near a finger that touched nothing rules out a jar centre: the smallest jar
+        radius, less a quarter cell (cell centres stand for their whole cell)."""
+        return self.geometry.jar_radius[0] - 0.25 * self.geometry.cell
+
     def sweep_finger(self, joint: np.ndarray, tip: np.ndarray) -> None:
         """Remembers that the finger segment ``joint`` to ``tip`` touched nothing: no jar centre
-        lies within the smallest jar radius of it."""
-        radius = self.geometry.jar_radius[0] - 0.25 * self.geometry.cell
-        self.swept |= _segment_distance(self.xs, self.ys, joint, tip) <= radius
+        lies within ``sweep_radius()`` of it."""
+        self.swept |= _segment_distance(self.xs, self.ys, joint, tip) <= self.sweep_radius()
+
+    def mark_swept(self, cells: np.ndarray) -> None:
+        """Remembers that no jar centre lies in ``cells`` (a boolean (H, W) mask)."""
+        self.swept |= cells
 
     def add_touch(self, point: np.ndarray, normal: np.ndarray) -> None:
         """Remembers a touched jar (not the target) by its estimated centre."""
