@@ -111,7 +111,14 @@ def test_the_command_line_evaluates_an_sb3_model_zip(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize(
-    "spec", ["random", "gpis_planner", "oracle", "docs/results/ablations_speed/runs/ppo_gpis_seed0"]
+    "spec",
+    [
+        "random",
+        "gpis_planner",
+        "gpis_probe_planner",
+        "oracle",
+        "docs/results/ablations_speed/runs/ppo_gpis_seed0",
+    ],
 )
 def test_the_agents_evaluation_through_the_runner_gives_the_sequential_rows(spec: str) -> None:
     """The project's own evaluation runs on the benchmark runner: every agent (scripted,

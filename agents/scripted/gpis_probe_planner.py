@@ -88,24 +88,40 @@ class GpisProbePlanner(GpisPlanner):
     # -- choosing the next probe -------------------------------------------------------
 
     def _choose(self, pose: Pose) -> tuple[int, int, int]:
-        """The grid probe with the most hiding weight under its finger per motion."""
+        """The grid probe with the most hiding weight under its finger per motion: where the
+        target may hide by the strict conditions, or, when no probe the hand can make
+        covers any of that, by the relaxed ones (``SearchMap.hiding_weight``)."""
         g = self.geometry
-        weight = self.belief.hiding_weight()
-        if not weight.any():
-            weight = self.belief.hiding_weight(relaxed=True)
-        field = ClearanceField(self.belief, self.belief.blocked())
-        solid = ClearanceField(self.belief, self.belief.solid(0.0))
-        mask = weight > 0
-        cells = np.c_[self.belief.xs[mask], self.belief.ys[mask]]
-        weights = weight[mask]
+        candidates = self._candidates(pose)
         # Count what a probe that touches nothing clears from the belief (the cells its
         # sweep marks), not the wider ring within a jar radius of the finger: that ring
         # is never cleared, and counting it made a probe worth repeating, one depth up
         # and down the same lane, until the time ran out.
         hit = self.belief.sweep_radius()
-        # Without a probe that covers anything: straight in at the middle lane's opening.
-        best = (len(g.probe_lanes) // 2, 0, len(g.probe_yaws) // 2)
-        best_score = 0.0
+        for relaxed in (False, True):
+            weight = self.belief.hiding_weight(relaxed=relaxed)
+            mask = weight > 0
+            cells = np.c_[self.belief.xs[mask], self.belief.ys[mask]]
+            weights = weight[mask]
+            best, best_score = None, 0.0
+            for indices, probe, motions in candidates:
+                covered = weights[self._covers(probe, cells, hit)].sum()
+                score = covered / (motions + COST_OFFSET)
+                if score > best_score:
+                    best, best_score = indices, score
+            if best is not None:
+                return best
+        # Nothing left to cover: straight in at the middle lane's opening.
+        return (len(g.probe_lanes) // 2, 0, len(g.probe_yaws) // 2)
+
+    def _candidates(self, pose: Pose) -> list[tuple[tuple[int, int, int], Probe, float]]:
+        """Every grid probe the wrist and arm can make from ``pose`` without coming near a
+        cell that may hold a jar, its sweep no wider than the largest safe turn, except a
+        wait: its indices, the probe and the controller's motions to make it."""
+        g = self.geometry
+        field = ClearanceField(self.belief, self.belief.blocked())
+        solid = ClearanceField(self.belief, self.belief.solid(0.0))
+        candidates = []
         for lane, x in enumerate(g.probe_lanes):
             deepest = self._deepest_clear(field, solid, float(x))
             if deepest is None:
@@ -125,11 +141,9 @@ class GpisProbePlanner(GpisPlanner):
                     probe = Probe(float(x), float(y), side, angle)
                     if self._is_here(pose, probe, float(yaw)):
                         continue  # a wait: the scene does not change while the hand waits
-                    covered = weights[self._covers(probe, cells, hit)].sum()
-                    score = covered / (self._motions(pose, probe, float(yaw)) + COST_OFFSET)
-                    if score > best_score:
-                        best, best_score = (lane, depth, sweep), score
-        return best
+                    motions = self._motions(pose, probe, float(yaw))
+                    candidates.append(((lane, depth, sweep), probe, motions))
+        return candidates
 
     @staticmethod
     def _is_here(pose: Pose, probe: Probe, yaw: float) -> bool:
