@@ -73,8 +73,12 @@ def main(argv: list[str] | None = None) -> None:
     print("|---|---|---|---|---|---|")
     for name, episodes in rows.items():
         s = summarize(name, "gpis", episodes)
-        only_here = sum(e["success"] and not f["success"] for e, f in zip(episodes, first))
-        only_first = sum(f["success"] and not e["success"] for e, f in zip(episodes, first))
+        only_here = sum(
+            e["success"] and not f["success"] for e, f in zip(episodes, first, strict=True)
+        )
+        only_first = sum(
+            f["success"] and not e["success"] for e, f in zip(episodes, first, strict=True)
+        )
         print(
             f"| {name} | {100 * s.success_rate:.1f} % | [{100 * s.success_low:.1f}, "
             f"{100 * s.success_high:.1f}] | {s.steps_median:.0f} [{s.steps_q1:.0f}, "
