@@ -78,7 +78,11 @@ fn uses_alternating_around_a_power_of_two_keep_one_storage() {
     reused.add_values(&points(128), None, 1e-3).unwrap();
     let prior_only = reused.memory_bytes();
     reused.add_values(&points(140)[128..], None, 1e-3).unwrap();
-    assert_eq!(reused.memory_bytes(), prior_only, "a few touches need no growth");
+    assert_eq!(
+        reused.memory_bytes(),
+        prior_only,
+        "a few touches need no growth"
+    );
     for rows in [128, 135, 120, 140, 128] {
         reused.clear();
         reused.add_values(&points(rows), None, 1e-3).unwrap();

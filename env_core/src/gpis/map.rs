@@ -481,9 +481,7 @@ impl Gpis {
             return Ok(());
         }
         // `clear` keeps what `capacity_for` gives for its last use's rows.
-        let capacity = capacity_for(rows)
-            .max(2 * self.capacity)
-            .min(self.max_rows);
+        let capacity = capacity_for(rows).max(2 * self.capacity).min(self.max_rows);
         let out_of_memory = |_| GpisError::OutOfMemory {
             what: "factor and grid cache",
             gigabytes: gigabytes_of_f64s(capacity as f64 * (capacity + self.cell_xs.len()) as f64),
@@ -504,8 +502,12 @@ impl Gpis {
             gigabytes: gigabytes_of_f64s(6.0 * capacity as f64),
         };
         self.rows.try_reserve_exact(spare).map_err(out_of_memory)?;
-        self.observed.try_reserve_exact(spare).map_err(out_of_memory)?;
-        self.noise_var.try_reserve_exact(spare).map_err(out_of_memory)?;
+        self.observed
+            .try_reserve_exact(spare)
+            .map_err(out_of_memory)?;
+        self.noise_var
+            .try_reserve_exact(spare)
+            .map_err(out_of_memory)?;
         self.beta.try_reserve_exact(spare).map_err(out_of_memory)?;
         self.capacity = capacity;
         Ok(())
