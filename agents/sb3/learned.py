@@ -13,6 +13,7 @@ import numpy as np
 
 from agents.run_dir import read_run_config
 from agents.sb3.recipes import algorithm_class, load_objects
+from tactile_search.benchmark.policies import EpisodeActions
 from tactile_search.envs.config import REWARD_KEYS
 
 
@@ -92,7 +93,6 @@ class LearnedAgent:
         self.name = name or learned_agent_name(self.config["algo"], self.map_mode)
         self.model = load_model(model_path, self.config["algo"], self.config.get("hyperparams"))
         self._check_spaces(model_path)
-        self._recurrent = self.config["algo"] == "recurrent_ppo"
         # The policy's mode (argmax, mean) or a sample from it: the recipe says which
         # (``deterministic_evaluation``, default true). Samples come from torch's generator,
         # seeded with the episode's layout seed at every reset, so an episode's actions do not
@@ -100,8 +100,7 @@ class LearnedAgent:
         if deterministic is None:
             deterministic = bool(self.config["hyperparams"].get("deterministic_evaluation", True))
         self.deterministic = deterministic
-        self._state: Any = None
-        self._episode_start = np.ones((1,), dtype=bool)
+        self._actions = EpisodeActions(self.model, recurrent=self.config["algo"] == "recurrent_ppo")
 
     def _check_spaces(self, model_path: Path) -> None:
         """The model's spaces against those of the env it will be evaluated in."""
@@ -131,8 +130,7 @@ class LearnedAgent:
             # this agent (``act`` swaps it in and out), so that copies of the agent playing
             # episodes side by side each draw what one agent alone would.
             self._torch_rng = torch.Generator().manual_seed(env.np_random_seed).get_state()
-        self._state = None
-        self._episode_start = np.ones((1,), dtype=bool)
+        self._actions.reset()
 
     def act(self, observation: dict) -> np.ndarray:
         if self.deterministic:
@@ -146,14 +144,5 @@ class LearnedAgent:
         return action
 
     def _predict(self, observation: dict) -> np.ndarray:
-        if self._recurrent:
-            action, self._state = self.model.predict(
-                observation,
-                state=self._state,
-                episode_start=self._episode_start,
-                deterministic=self.deterministic,
-            )
-            self._episode_start = np.zeros((1,), dtype=bool)
-        else:
-            action, _ = self.model.predict(observation, deterministic=self.deterministic)
+        action = self._actions.predict(observation, deterministic=self.deterministic)
         return np.asarray(action, dtype=np.float32).reshape(3)

@@ -69,23 +69,38 @@ class Sb3Policy:
             ) from error
         self.name = f"{algo} ({path})"
         self.model = getattr(module, class_name).load(path, device="cpu")
-        self._recurrent = algo == "recurrent_ppo"
+        self._actions = EpisodeActions(self.model, recurrent=algo == "recurrent_ppo")
+
+    def reset(self, observation: dict, info: dict) -> None:
+        self._actions.reset()
+
+    def __call__(self, observation: dict) -> np.ndarray:
+        return self._actions.predict(observation, deterministic=True)
+
+
+class EpisodeActions:
+    """An SB3 model's actions through one episode at a time: a recurrent model's state is
+    carried from step to step and cleared by ``reset`` (the episode's start)."""
+
+    def __init__(self, model: Any, recurrent: bool) -> None:
+        self.model = model
+        self._recurrent = recurrent
+        self.reset()
+
+    def reset(self) -> None:
         self._state: Any = None
         self._episode_start = np.ones((1,), dtype=bool)
 
-    def reset(self, observation: dict, info: dict) -> None:
-        self._state = None
-        self._episode_start = np.ones((1,), dtype=bool)
-
-    def __call__(self, observation: dict) -> np.ndarray:
-        if self._recurrent:
-            action, self._state = self.model.predict(
-                observation,
-                state=self._state,
-                episode_start=self._episode_start,
-                deterministic=True,
-            )
-            self._episode_start = np.zeros((1,), dtype=bool)
+    def predict(self, observation: dict, deterministic: bool) -> np.ndarray:
+        """The model's action for ``observation``: its mode, or a sample from it."""
+        if not self._recurrent:
+            action, _ = self.model.predict(observation, deterministic=deterministic)
             return action
-        action, _ = self.model.predict(observation, deterministic=True)
+        action, self._state = self.model.predict(
+            observation,
+            state=self._state,
+            episode_start=self._episode_start,
+            deterministic=deterministic,
+        )
+        self._episode_start = np.zeros((1,), dtype=bool)
         return action
