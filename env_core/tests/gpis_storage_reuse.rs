@@ -60,6 +60,10 @@ fn clearing_releases_storage_a_large_map_grew_and_keeps_what_the_last_one_used()
         "{} vs {large}",
         reused.memory_bytes()
     );
+    // What it keeps is what a fresh map of that use grows to, no more.
+    reused.add_values(&points(100), None, 1e-3).unwrap();
+    assert_eq!(reused.memory_bytes(), small);
+    reused.clear();
     // Reuse at the same size keeps the same storage (no reallocation every episode).
     reused.add_values(&points(100), None, 1e-3).unwrap();
     reused.clear();

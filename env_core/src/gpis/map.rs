@@ -282,7 +282,7 @@ impl Gpis {
             self.grid_cache_t = Mat::zeros(n_cells, 0);
             self.capacity = 0;
             // A failed reservation is tried again, with its error, by the next `add`.
-            self.reserve_rows(kept.min(self.max_rows)).ok();
+            self.allocate(kept.min(self.max_rows)).ok();
         }
         self.chol.truncate(0, 0);
         self.mean.clear();
@@ -474,14 +474,18 @@ impl Gpis {
         Ok(report)
     }
 
-    /// Grows the factor's and the cache's storage (by doubling) to hold `rows` rows, or
-    /// says how much it needed if the allocation fails (the map is left as it was).
+    /// Grows the storage to hold `rows` rows: to [`capacity_for`] them, at least doubling,
+    /// or says how much it needed if the allocation fails (the map is left as it was).
     fn reserve_rows(&mut self, rows: usize) -> Result<(), GpisError> {
         if rows <= self.capacity {
             return Ok(());
         }
-        // `clear` keeps what `capacity_for` gives for its last use's rows.
-        let capacity = capacity_for(rows).max(2 * self.capacity).min(self.max_rows);
+        self.allocate(capacity_for(rows).max(2 * self.capacity).min(self.max_rows))
+    }
+
+    /// Grows the factor's, the cache's and the row data's storage to `capacity` rows (at
+    /// least what they hold), or says how much it needed if the allocation fails.
+    fn allocate(&mut self, capacity: usize) -> Result<(), GpisError> {
         let out_of_memory = |_| GpisError::OutOfMemory {
             what: "factor and grid cache",
             gigabytes: gigabytes_of_f64s(capacity as f64 * (capacity + self.cell_xs.len()) as f64),
