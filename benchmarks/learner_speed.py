@@ -53,7 +53,7 @@ from typing import Any
 import yaml
 
 from agents.sb3.encoders import MapExtractor, map_feature_shape
-from agents.sb3.recipes import algorithm_class, algorithm_kwargs, load_hyperparams
+from agents.sb3.recipes import algorithm_class, load_hyperparams, new_model
 from agents.sb3.training_env import make_training_env
 from benchmarks.arguments import positive_int
 
@@ -156,9 +156,7 @@ def build_model(recipe: dict[str, Any], env_threads: int | None) -> Any:
     env = make_training_env(
         recipe["env_kwargs"], n_envs=recipe["n_envs"], seed=0, threads=env_threads
     )
-    return algorithm_class("ppo")(
-        recipe["policy"], TimedVecEnv(env), seed=0, device="cpu", **algorithm_kwargs(recipe)
-    )
+    return new_model(algorithm_class("ppo"), recipe, TimedVecEnv(env), seed=0)
 
 
 def rollout_timer() -> Any:

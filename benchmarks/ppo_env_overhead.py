@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 from stable_baselines3.common.vec_env import VecEnv, VecEnvWrapper
 
-from agents.sb3.recipes import RUN_KEYS, algorithm_class, load_hyperparams
+from agents.sb3.recipes import algorithm_class, load_hyperparams, new_model
 from agents.sb3.training_env import make_training_env
 
 
@@ -104,9 +104,8 @@ def main(argv: list[str] | None = None) -> None:
     n_envs = recipe["n_envs"]
     real = StepTimer(make_training_env(recipe["env_kwargs"], n_envs, seed=0))
     zero = StepTimer(ZeroCostVecEnv(n_envs, real.observation_space, real.action_space))
-    algo_kwargs = {k: v for k, v in recipe.items() if k not in RUN_KEYS}
     models = {
-        name: algorithm_class("ppo")(recipe["policy"], env, seed=0, device="cpu", **algo_kwargs)
+        name: new_model(algorithm_class("ppo"), recipe, env, seed=0)
         for name, env in (("environment", real), ("zero-cost", zero))
     }
     rollout = recipe["n_steps"] * n_envs

@@ -78,8 +78,12 @@ def plot_steps(path: Path, agents: Sequence[str], episodes: Sequence[Sequence[di
 
 
 def read_progress(run_dir: Path) -> dict[str, np.ndarray]:
-    """``timesteps`` and ``success_rate`` columns of a run's ``progress.csv``."""
-    with (Path(run_dir) / "progress.csv").open() as f:
+    """``timesteps`` and ``success_rate`` columns of a run's ``progress.csv``; both empty for
+    a run that has none (one cloned from the planner, ``agents.imitate``, trains no RL)."""
+    path = Path(run_dir) / "progress.csv"
+    if not path.is_file():
+        return {"timesteps": np.array([]), "success_rate": np.array([])}
+    with path.open() as f:
         rows = list(csv.DictReader(f))
     timesteps, success = [], []
     for row in rows:

@@ -61,7 +61,7 @@ def load_hyperparams(
 
 
 # A recipe names classes in its policy_kwargs by dotted path (YAML holds no classes).
-CLASS_KEYS = ("features_extractor_class",)
+CLASS_KEYS = ("features_extractor_class", "activation_fn")
 
 
 # Modules that recipes of earlier runs name and that have moved since, old -> new: the
@@ -92,6 +92,23 @@ def algorithm_kwargs(recipe: dict[str, Any]) -> dict[str, Any]:
     if policy_kwargs:
         kwargs["policy_kwargs"] = policy_kwargs
     return kwargs
+
+
+def new_model(cls: type, recipe: dict[str, Any], env: Any, seed: int) -> Any:
+    """A fresh ``cls`` model (on the CPU) of ``recipe`` on ``env``: its ``policy`` is an SB3
+    alias (``MultiInputPolicy``) or a class by dotted path
+    (``agents.sb3.joint_probe_policy.JointProbePolicy``)."""
+    policy = recipe["policy"]
+    if isinstance(policy, str) and "." in policy:
+        module, _, attribute = policy.rpartition(".")
+        try:
+            policy = getattr(importlib.import_module(module), attribute)
+        except (ImportError, AttributeError, ValueError) as err:
+            raise ValueError(
+                f"policy must be an SB3 alias or an importable class as module.Class, got "
+                f"{recipe['policy']!r} ({type(err).__name__}: {err})"
+            ) from err
+    return cls(policy, env, seed=seed, device="cpu", **algorithm_kwargs(recipe))
 
 
 def load_objects(recipe: dict[str, Any]) -> dict[str, Any]:

@@ -48,9 +48,9 @@ from agents.sb3.callbacks import make_logger, rollout_checkpoints, wall_clock_li
 from agents.sb3.recipes import (
     ALGORITHMS,
     algorithm_class,
-    algorithm_kwargs,
     load_hyperparams,
     load_objects,
+    new_model,
 )
 from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS, make_training_env
 from tactile_search import ENV_ID
@@ -366,7 +366,7 @@ def _new_model(
     recipe = config["hyperparams"]
     set_random_seed(seed)
     env = make_training_env(recipe["env_kwargs"], recipe["n_envs"], seed, env_id, env_threads)
-    model = cls(recipe["policy"], env, seed=seed, device="cpu", **algorithm_kwargs(recipe))
+    model = new_model(cls, recipe, env, seed)
     if init_from is not None:
         config["init_from"] = warm_start(model, cls, init_from)
     return model, env, make_logger(run_dir)

@@ -65,6 +65,24 @@ class GpisProbePlanner(GpisPlanner):
         self._chosen = self._choose(pose)
         return np.array(self._chosen, dtype=np.int64)
 
+    def follow(self, action: np.ndarray) -> None:
+        """Takes ``action``, not the probe ``act`` just chose, as the probe the env carries
+        out next: the planner then labels states another agent visits (DAgger), its belief
+        learning from the probes that agent made. Raises ``ValueError`` for an action that is
+        not a probe of the grid."""
+        if self.geometry is None:
+            raise RuntimeError("call reset before follow")
+        g = self.geometry
+        sizes = (len(g.probe_lanes), len(g.probe_depths), len(g.probe_yaws))
+        indices = np.asarray(action).reshape(-1)
+        if indices.shape != (3,) or any(
+            not float(i).is_integer() or not 0 <= i < n for i, n in zip(indices, sizes, strict=True)
+        ):
+            raise ValueError(
+                f"follow needs a probe (lane, depth, sweep) below {sizes}, got {action!r}"
+            )
+        self._chosen = tuple(int(i) for i in indices)
+
     # -- what the last probe swept -----------------------------------------------------
 
     def _sweep_probe_path(self, chosen: tuple[int, int, int], after: Pose) -> None:

@@ -1,0 +1,222 @@
+"""One imitation run: the recipe's PPO network cloned from the GPIS probe planner, then DAgger.
+
+``imitate`` builds the network the PPO recipe of the map mode trains (the same policy and
+spaces, so the result warm-starts PPO fine-tuning with ``agents.train --init-from`` and
+evaluates as any run does), records the teacher's demonstrations on training layouts, clones
+them, and runs DAgger rounds: the student samples its own probes on fresh training layouts,
+the teacher labels every state it visits, and the student is cloned again on everything
+gathered so far. A tenth of the teacher's layouts is held out to measure how often the
+student's mode is the teacher's probe.
+
+The run directory is a training run's (``agents.run_dir``): ``model.zip`` and ``config.yml``,
+whose ``imitation`` section records the settings and, per round, the states labelled, the
+student's agreement with its teacher and its success on the layouts it played;
+``timesteps_done`` counts the probes stepped (teacher's and student's).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from agents.imitation.cloning import CloningSettings, agreement, clone
+from agents.imitation.demonstrations import Demonstrations, record
+from agents.run_dir import (
+    MODEL_FILE,
+    code_version,
+    machine,
+    run_name,
+    save_model_atomically,
+    versions,
+    write_run_config,
+)
+from agents.sb3.recipes import algorithm_class, load_hyperparams, new_model
+from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS, make_training_env
+from agents.scripted.gpis_probe_planner import GpisProbePlanner
+from tactile_search import ENV_ID
+from tactile_search._validation import as_count
+
+#: The share of the teacher's layouts held out to measure agreement.
+HELD_OUT = 0.1
+
+
+@dataclasses.dataclass(frozen=True)
+class ImitationSettings:
+    """The teacher's episodes, the DAgger rounds, the student's episodes per round, the
+    cloning (its ``epochs`` for the teacher's demonstrations) and the passes over everything
+    gathered after each DAgger round (continuing from the weights before it)."""
+
+    demo_episodes: int = 2000
+    dagger_rounds: int = 3
+    dagger_episodes: int = 1000
+    cloning: CloningSettings = dataclasses.field(default_factory=CloningSettings)
+    dagger_epochs: int = 15
+
+    def __post_init__(self) -> None:
+        as_count("demo_episodes", self.demo_episodes, minimum=2)
+        as_count("dagger_rounds", self.dagger_rounds, minimum=0)
+        as_count("dagger_episodes", self.dagger_episodes)
+        as_count("dagger_epochs", self.dagger_epochs)
+
+
+def imitate(
+    map_mode: str,
+    *,
+    out: Path = Path("runs"),
+    seed: int = 0,
+    settings: ImitationSettings | None = None,
+    hyperparams: Path | None = None,
+    torch_threads: int = 1,
+    env_id: str = ENV_ID,
+    progress: bool = True,
+    demonstrations_file: Path | None = None,
+) -> Path:
+    """Clones the planner into the PPO recipe's network for ``map_mode``; the run directory.
+
+    ``demonstrations_file`` (an ``.npz``) keeps the teacher's demonstrations: read if it
+    exists (it must hold this run's layouts), else recorded and written there, so that
+    variants of a run clone the same demonstrations."""
+    import torch
+    from stable_baselines3.common.utils import set_random_seed
+
+    settings = settings or ImitationSettings()
+    started = time.monotonic()
+    recipe = load_hyperparams("ppo", map_mode, env_id, hyperparams)
+    env_kwargs = dict(recipe["env_kwargs"])
+    if env_kwargs.get("action_mode") != "probe":
+        raise ValueError(
+            f"imitation needs a probe-mode recipe (the teacher chooses probes); the {map_mode} "
+            f"recipe has action_mode {env_kwargs.get('action_mode')!r}"
+        )
+    torch.set_num_threads(torch_threads)
+    set_random_seed(seed)
+    spaces_env = make_training_env(env_kwargs, recipe["n_envs"], seed, env_id, threads=1)
+    try:
+        model = new_model(algorithm_class("ppo"), recipe, spaces_env, seed)
+    finally:
+        spaces_env.close()
+    policy = model.policy
+    gamma = float(model.gamma)
+    layouts = _training_layouts(
+        seed, settings.demo_episodes + settings.dagger_rounds * settings.dagger_episodes
+    )
+
+    def say(text: str) -> None:
+        if progress:
+            print(f"[{time.monotonic() - started:7.1f} s] {text}", flush=True)
+
+    teacher_layouts = layouts[: settings.demo_episodes]
+    if demonstrations_file is not None and Path(demonstrations_file).is_file():
+        demonstrations = Demonstrations.load(demonstrations_file)
+        if set(demonstrations.layout_seeds.tolist()) != set(teacher_layouts):
+            raise ValueError(
+                f"{demonstrations_file} holds demonstrations of other layouts than this run's "
+                f"{len(teacher_layouts)} (seed {seed}); give another file"
+            )
+    else:
+        demonstrations = record(teacher_layouts, env_kwargs, gamma)
+        if demonstrations_file is not None:
+            demonstrations.save(demonstrations_file)
+    train, held_out = demonstrations.split_by_layout(HELD_OUT, seed)
+    say(f"teacher: {len(demonstrations)} probes on {len(teacher_layouts)} layouts")
+    history = clone(policy, train, settings.cloning)
+    rounds = [_round_record(0, demonstrations, history, policy, held_out)]
+    say(f"cloned: {rounds[-1]}")
+    gathered = train
+    probes = len(demonstrations)
+    for index in range(1, settings.dagger_rounds + 1):
+        start = settings.demo_episodes + (index - 1) * settings.dagger_episodes
+        round_layouts = layouts[start : start + settings.dagger_episodes]
+        torch.manual_seed(seed * 1000 + index)
+        labelled = record(round_layouts, env_kwargs, gamma, student=_sampling_student(model))
+        probes += len(labelled)
+        gathered = Demonstrations.concatenate([gathered, labelled])
+        again = dataclasses.replace(
+            settings.cloning, epochs=settings.dagger_epochs, seed=settings.cloning.seed + index
+        )
+        history = clone(policy, gathered, again)
+        rounds.append(_round_record(index, labelled, history, policy, held_out))
+        say(f"DAgger round {index}: {rounds[-1]}")
+    run_dir = Path(out) / run_name("ppo", map_mode, seed)
+    run_dir.mkdir(parents=True, exist_ok=True)
+    config: dict[str, Any] = {
+        "algo": "ppo",
+        "env_id": env_id,
+        "map": map_mode,
+        "seed": seed,
+        "torch_threads": torch_threads,
+        "train_layout_seeds": list(TRAIN_LAYOUT_SEEDS),
+        "hyperparams": recipe,
+        "versions": versions(),
+        "code": code_version(),
+        "machine": machine(),
+        "imitation": {
+            "teacher": GpisProbePlanner.name,
+            "demo_episodes": settings.demo_episodes,
+            "dagger_rounds": settings.dagger_rounds,
+            "dagger_episodes": settings.dagger_episodes,
+            "dagger_epochs": settings.dagger_epochs,
+            "held_out_layouts": held_out.episodes,
+            "cloning": dataclasses.asdict(settings.cloning),
+            "rounds": rounds,
+        },
+        "timesteps_done": probes,
+        "wall_clock_seconds": round(time.monotonic() - started, 1),
+    }
+    write_run_config(run_dir, config)
+    save_model_atomically(model, run_dir / MODEL_FILE)
+    return run_dir
+
+
+def _training_layouts(seed: int, count: int) -> list[int]:
+    """``count`` distinct layout seeds from the training range, drawn with ``seed``."""
+    low, high = TRAIN_LAYOUT_SEEDS
+    rng = np.random.default_rng([seed, 24])
+    chosen: dict[int, None] = {}
+    while len(chosen) < count:
+        for value in rng.integers(low, high, size=count - len(chosen), dtype=np.uint64):
+            chosen[int(value)] = None
+    return list(chosen)
+
+
+def _sampling_student(model: Any) -> Any:
+    """Per episode, the model's policy sampling its probes (as PPO explores)."""
+
+    def start(_layout_seed: int) -> Any:
+        def act(observation: dict) -> np.ndarray:
+            action, _ = model.predict(observation, deterministic=False)
+            return np.asarray(action)
+
+        return act
+
+    return start
+
+
+def _round_record(
+    index: int,
+    labelled: Demonstrations,
+    history: list[dict],
+    policy: Any,
+    held_out: Demonstrations,
+) -> dict[str, Any]:
+    """What ``config.yml`` keeps of a round: its states, the success of whoever acted (the
+    teacher in round 0, the student after), the last epoch's losses and the held-out
+    agreement afterwards."""
+    last = history[-1]
+    acted = labelled.outcomes()
+    return {
+        "round": index,
+        "states": len(labelled),
+        "layouts": labelled.episodes,
+        "acting_success": round(acted["success"], 4),
+        "acting_tips": acted["tips"],
+        "nll": round(float(last["nll"]), 4),
+        "value_loss": round(float(last["value_loss"]), 4),
+        "held_out_agreement": {
+            key: round(value, 4) for key, value in agreement(policy, held_out).items()
+        },
+    }

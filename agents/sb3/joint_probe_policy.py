@@ -1,0 +1,84 @@
+"""A policy whose probe is one categorical over every (lane, depth, sweep) of the grid.
+
+SB3 gives a ``MultiDiscrete`` action space a factorised distribution: one independent
+categorical per index, so a policy that wants "lane 3 turning right, or lane 20 turning
+left" also samples lane 3 turning left. The probe planner's choices are exactly such joint
+modes (the side to turn depends on the lane; the depth on both), so a policy cloned from it
+needs the joint: ``JointCategoricalDistribution`` has one logit per probe (29 x 10 x 9 at the
+defaults) and maps between a probe's index in that list and its ``(lane, depth, sweep)``
+action, and ``JointProbePolicy`` is SB3's ``MultiInputPolicy`` with it as its action head.
+Everything else (encoder, value head, PPO's losses) is SB3's own.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import torch
+from stable_baselines3.common.distributions import MultiCategoricalDistribution
+from stable_baselines3.common.policies import MultiInputActorCriticPolicy
+from torch import nn
+from torch.distributions import Categorical
+
+
+class JointCategoricalDistribution(MultiCategoricalDistribution):
+    """One categorical over the product of ``action_dims``; actions are their index tuples
+    (row-major, as ``numpy.ravel_multi_index``)."""
+
+    def __init__(self, action_dims: list[int]) -> None:
+        super().__init__(action_dims)
+        dims = [int(n) for n in action_dims]
+        # The place value of each index in the joint index (row-major).
+        self._strides = [math.prod(dims[i + 1 :]) for i in range(len(dims))]
+        self._dims = dims
+
+    def proba_distribution_net(self, latent_dim: int) -> nn.Module:
+        return nn.Linear(latent_dim, math.prod(self._dims))
+
+    def proba_distribution(self, action_logits: torch.Tensor) -> JointCategoricalDistribution:
+        self.distribution = Categorical(logits=action_logits)  # type: ignore[assignment]
+        return self
+
+    def joint_index(self, actions: torch.Tensor) -> torch.Tensor:
+        """The joint index of each ``(batch, len(action_dims))`` action."""
+        strides = torch.as_tensor(self._strides, device=actions.device)
+        return (actions.long() * strides).sum(dim=1)
+
+    def actions_of(self, index: torch.Tensor) -> torch.Tensor:
+        """The index tuple of each joint ``index``."""
+        return torch.stack(
+            [(index // stride) % n for stride, n in zip(self._strides, self._dims, strict=True)],
+            dim=1,
+        )
+
+    def log_prob(self, actions: torch.Tensor) -> torch.Tensor:
+        return self.distribution.log_prob(self.joint_index(actions))
+
+    def entropy(self) -> torch.Tensor:
+        return self.distribution.entropy()
+
+    def sample(self) -> torch.Tensor:
+        return self.actions_of(self.distribution.sample())
+
+    def mode(self) -> torch.Tensor:
+        return self.actions_of(torch.argmax(self.distribution.probs, dim=1))
+
+
+class JointProbePolicy(MultiInputActorCriticPolicy):
+    """SB3's ``MultiInputPolicy`` with ``JointCategoricalDistribution`` as its action head;
+    for ``MultiDiscrete`` action spaces only."""
+
+    def __init__(self, observation_space: Any, action_space: Any, *args: Any, **kwargs: Any):
+        from gymnasium import spaces
+
+        if not isinstance(action_space, spaces.MultiDiscrete):
+            raise ValueError(
+                f"JointProbePolicy needs a MultiDiscrete action space (the probe mode), got "
+                f"{action_space}"
+            )
+        super().__init__(observation_space, action_space, *args, **kwargs)
+
+    def _build(self, lr_schedule: Any) -> None:
+        self.action_dist = JointCategoricalDistribution(list(self.action_space.nvec))
+        super()._build(lr_schedule)

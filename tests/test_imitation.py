@@ -1,0 +1,246 @@
+"""Learning from the GPIS probe planner (``agents.imitation``): the demonstrations are the
+planner's probes on states it reads only through observations, DAgger's labels are what the
+planner chooses when it follows the student's probes, a student with another map sees its
+own observation, behaviour cloning learns the teacher's probes on held-out layouts, and the
+command writes a run that evaluates and warm-starts PPO."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from agents.imitation.cloning import CloningSettings, agreement, clone
+from agents.imitation.demonstrations import Demonstrations, record
+from agents.imitation.training import ImitationSettings, _training_layouts
+from agents.scripted import GpisProbePlanner
+from tactile_search import CupboardSearchEnv, seed_ranges
+
+PROBE_GPIS = {"map": "gpis", "action_mode": "probe"}
+GAMMA = 0.9
+
+
+@pytest.fixture
+def no_ground_truth(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every env of the test refuses its ground truth and its oracle."""
+
+    def refuse(self: Any) -> Any:
+        raise AssertionError("the teacher read the ground truth")
+
+    monkeypatch.setattr(CupboardSearchEnv, "render_state", refuse)
+    monkeypatch.setattr(CupboardSearchEnv, "oracle_action", refuse)
+
+
+def replay(layout_seed: int, env_kwargs: dict, students_probes: list | None = None) -> dict:
+    """One episode as ``record`` should see it, driven by hand: the planner labels each
+    state (following ``students_probes`` where given) in the env of ``env_kwargs``."""
+    env = CupboardSearchEnv(**env_kwargs)
+    planner = GpisProbePlanner()
+    observation, info = env.reset(seed=layout_seed)
+    planner.reset(env, observation, info)
+    seen, labels, rewards = [], [], []
+    done, step = False, 0
+    while not done:
+        label = planner.act(observation)
+        action = label
+        if students_probes is not None:
+            action = students_probes[step]
+            planner.follow(action)
+        seen.append(observation)
+        labels.append(label)
+        observation, reward, terminated, truncated, info = env.step(action)
+        rewards.append(reward)
+        done, step = terminated or truncated, step + 1
+    return {"observations": seen, "labels": np.array(labels), "rewards": rewards}
+
+
+def test_the_teachers_demonstrations_are_its_probes_and_the_discounted_returns(
+    no_ground_truth: None,
+) -> None:
+    demonstrations = record([1, 2], PROBE_GPIS, GAMMA)
+    first = replay(1, PROBE_GPIS)
+    n = len(first["labels"])
+    assert len(demonstrations) == n + len(replay(2, PROBE_GPIS)["labels"])
+    np.testing.assert_array_equal(demonstrations.actions[:n], first["labels"])
+    np.testing.assert_array_equal(demonstrations.layout_seeds[:n], 1)
+    space = CupboardSearchEnv(**PROBE_GPIS).action_space
+    assert all(space.contains(action) for action in demonstrations.actions)
+    expected = np.cumsum([r * GAMMA**i for i, r in enumerate(first["rewards"])][::-1])[::-1]
+    np.testing.assert_allclose(
+        demonstrations.returns[:n], expected / GAMMA ** np.arange(n), rtol=1e-5
+    )
+    np.testing.assert_array_equal(
+        demonstrations.observations["map"][0], first["observations"][0]["map"]
+    )
+
+
+def map_rule_demonstrations(layouts: int) -> Demonstrations:
+    """A small fixed demo set whose probe depends on the map alone: at each layout's reset, a
+    lane on the side of the cupboard where the GPIS std's mass lies (left of the layouts'
+    median centroid: lane 3, else lane 25), straight in at the first depth."""
+    env = CupboardSearchEnv(**PROBE_GPIS)
+    observations = [env.reset(seed=seed)[0] for seed in range(layouts)]
+    std = np.stack([o["map"][1] for o in observations]).astype(float).sum(axis=1)
+    centroid = (std * np.arange(std.shape[1])).sum(axis=1) / std.sum(axis=1)
+    lanes = np.where(centroid < np.median(centroid), 3, 25)
+    middle = env.action_space.nvec[2] // 2
+    return Demonstrations(
+        {key: np.stack([o[key] for o in observations]) for key in observations[0]},
+        np.stack([lanes, np.zeros(layouts, int), np.full(layouts, middle)], axis=1),
+        np.zeros(layouts, np.float32),
+        np.arange(layouts, dtype=np.uint64),
+        np.zeros(layouts, bool),
+        np.zeros(layouts, np.int64),
+    )
+
+
+def test_behaviour_cloning_learns_a_map_dependent_probe_for_held_out_layouts() -> None:
+    """Cloning into the GPIS recipe's network (its MLP with ReLU: see
+    docs/results/ablations_imitation) on 240 layouts agrees with the demonstrations on 90 %
+    of 60 held-out ones, where always choosing one side gets half."""
+    import torch
+
+    from agents.sb3.recipes import algorithm_class, load_hyperparams, new_model
+    from agents.sb3.training_env import make_training_env
+
+    demonstrations = map_rule_demonstrations(300)
+    train, held_out = demonstrations.rows(np.arange(240)), demonstrations.rows(np.arange(240, 300))
+    torch.set_num_threads(1)
+    recipe = load_hyperparams("ppo", "gpis")
+    recipe["policy_kwargs"]["activation_fn"] = "torch.nn.ReLU"
+    model = new_model(
+        algorithm_class("ppo"), recipe, make_training_env(recipe["env_kwargs"], 16, 0), seed=0
+    )
+    before = agreement(model.policy, held_out)["lane"]
+    history = clone(
+        model.policy, train, CloningSettings(epochs=20, batch_size=32, learning_rate=1e-3)
+    )
+    assert history[-1]["nll"] < history[0]["nll"]
+    after = agreement(model.policy, held_out)
+    assert after["lane"] >= 0.85 > before, (before, after)
+    assert after["depth"] == after["sweep"] == 1.0
+
+
+def random_student(seed: int, space: Any) -> Any:
+    """A student probing at random (its own stream per episode)."""
+
+    def start(layout_seed: int) -> Any:
+        rng = np.random.default_rng([seed, layout_seed])
+
+        def act(_observation: dict) -> np.ndarray:
+            return np.array([rng.integers(n) for n in space.nvec])
+
+        return act
+
+    return start
+
+
+def test_dagger_labels_are_the_observation_only_planners_following_the_student(
+    no_ground_truth: None,
+) -> None:
+    space = CupboardSearchEnv(**PROBE_GPIS).action_space
+    labelled = record([3], PROBE_GPIS, GAMMA, student=random_student(0, space))
+    rng = np.random.default_rng([0, 3])
+    probes = [np.array([rng.integers(n) for n in space.nvec]) for _ in range(len(labelled))]
+    hand = replay(3, PROBE_GPIS, probes)
+    np.testing.assert_array_equal(labelled.actions, hand["labels"])
+    for i, observation in enumerate(hand["observations"]):
+        np.testing.assert_array_equal(labelled.observations["proprio"][i], observation["proprio"])
+    # The student went its own way: its probes are not the labels.
+    assert not np.array_equal(np.array(probes), labelled.actions)
+
+
+def test_a_student_with_another_map_sees_its_own_map_and_is_labelled_from_the_gpis_map(
+    no_ground_truth: None,
+) -> None:
+    occupancy = {"map": "occupancy", "action_mode": "probe"}
+    labelled = record([1], occupancy, GAMMA)
+    teacher = replay(1, PROBE_GPIS)
+    np.testing.assert_array_equal(labelled.actions, teacher["labels"])
+    env = CupboardSearchEnv(**occupancy)
+    observation, _ = env.reset(seed=1)
+    np.testing.assert_array_equal(labelled.observations["map"][0], observation["map"])
+    assert not np.array_equal(observation["map"], teacher["observations"][0]["map"])
+
+
+def test_demonstrations_need_the_probe_mode_and_consistent_rows(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="action_mode='probe'"):
+        record([1], {"map": "gpis"}, GAMMA)
+    demonstrations = record([1, 2, 4, 5], PROBE_GPIS, GAMMA)
+    path = tmp_path / "demos.npz"
+    demonstrations.save(path)
+    loaded = Demonstrations.load(path)
+    np.testing.assert_array_equal(loaded.observations["map"], demonstrations.observations["map"])
+    np.testing.assert_array_equal(loaded.actions, demonstrations.actions)
+    kept, held_out = demonstrations.split_by_layout(0.5, seed=0)
+    assert kept.episodes == held_out.episodes == 2
+    assert not set(kept.layout_seeds) & set(held_out.layout_seeds)
+    with pytest.raises(ValueError, match="one row per probe"):
+        Demonstrations(
+            demonstrations.observations,
+            demonstrations.actions[:1],
+            *(np.zeros(1) for _ in range(4)),
+        )
+    with pytest.raises(ValueError, match="not a file of demonstrations"):
+        np.savez(tmp_path / "other.npz", actions=demonstrations.actions)
+        Demonstrations.load(tmp_path / "other.npz")
+
+
+def test_the_planner_refuses_to_follow_a_probe_off_its_grid() -> None:
+    env = CupboardSearchEnv(**PROBE_GPIS)
+    observation, info = env.reset(seed=1)
+    planner = GpisProbePlanner()
+    planner.reset(env, observation, info)
+    planner.act(observation)
+    for bad in ([29, 0, 0], [0, -1, 0], [0.5, 0, 0], [1, 2]):
+        with pytest.raises(ValueError, match="probe"):
+            planner.follow(np.array(bad))
+
+
+def test_settings_refuse_what_cannot_train() -> None:
+    with pytest.raises(ValueError, match="demo_episodes"):
+        ImitationSettings(demo_episodes=1)
+    with pytest.raises(TypeError, match="dagger_rounds"):
+        ImitationSettings(dagger_rounds=1.5)
+    with pytest.raises(ValueError, match="learning_rate"):
+        CloningSettings(learning_rate=0.0)
+    with pytest.raises(ValueError, match="entropy_weight"):
+        CloningSettings(entropy_weight=float("nan"))
+
+
+def test_training_layouts_are_distinct_and_in_the_training_range() -> None:
+    layouts = _training_layouts(3, 500)
+    low, high = seed_ranges.TRAINING
+    assert len(set(layouts)) == 500 and all(low <= seed < high for seed in layouts)
+    assert layouts == _training_layouts(3, 500) and layouts != _training_layouts(4, 500)
+
+
+def test_the_command_writes_a_run_that_evaluates_and_warm_starts_ppo(tmp_path: Path) -> None:
+    """``python -m agents.imitate`` for a few hundred probes: the run's model plays an
+    episode as an evaluated agent and starts a PPO run (``--init-from``)."""
+    import yaml
+
+    from agents.imitate import main
+    from agents.sb3.learned import LearnedAgent
+    from tests.recipes import train_with_recipe
+
+    args = ["--map", "gpis", "--seed", "5", "--out", str(tmp_path), "--quiet"]
+    few = ["--demo-episodes", "100", "--dagger-rounds", "1", "--dagger-episodes", "60"]
+    main([*args, *few, "--epochs", "5", "--dagger-epochs", "2"])
+    run_dir = tmp_path / "ppo_gpis_seed5"
+    config = yaml.safe_load((run_dir / "config.yml").read_text())
+    rounds = config["imitation"]["rounds"]
+    assert [r["round"] for r in rounds] == [0, 1]
+    assert rounds[0]["layouts"] == 100 and rounds[1]["layouts"] == 60
+    assert config["timesteps_done"] == sum(r["states"] for r in rounds) >= 200
+    agent = LearnedAgent(run_dir)
+    env = CupboardSearchEnv(**agent.env_kwargs)
+    observation, info = env.reset(seed=seed_ranges.VALIDATION[0])
+    agent.reset(env, observation, info)
+    assert env.action_space.contains(agent.act(observation).astype(np.int64))
+    warm = train_with_recipe(tmp_path / "ppo", "gpis", train_kwargs={"init_from": run_dir})
+    assert yaml.safe_load((warm / "config.yml").read_text())["init_from"]["path"].startswith(
+        str(run_dir)
+    )
