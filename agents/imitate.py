@@ -45,6 +45,9 @@ def main(argv: list[str] | None = None) -> None:
         type=Path,
         help="an .npz keeping the teacher's demonstrations: read if it exists, else written",
     )
+    parser.add_argument(
+        "--mirror", action="store_true", help="clone the mirror image of every state too"
+    )
     parser.add_argument("--torch-threads", type=int, default=1)
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
     args = parser.parse_args(argv)
@@ -54,6 +57,7 @@ def main(argv: list[str] | None = None) -> None:
             dagger_rounds=args.dagger_rounds,
             dagger_episodes=args.dagger_episodes,
             dagger_epochs=args.dagger_epochs,
+            mirror=args.mirror,
             cloning=CloningSettings(
                 epochs=args.epochs,
                 batch_size=args.batch_size,

@@ -244,3 +244,53 @@ def test_the_command_writes_a_run_that_evaluates_and_warm_starts_ppo(tmp_path: P
     assert yaml.safe_load((warm / "config.yml").read_text())["init_from"]["path"].startswith(
         str(run_dir)
     )
+
+
+def test_the_mirror_image_of_a_state_gets_the_mirror_image_of_the_teachers_probe_mostly() -> None:
+    """The planner, shown the mirror image of a reset's observation, chooses the mirror
+    image of the probe it chooses on the observation itself in most layouts, and a probe in
+    a neighbouring lane in nearly all (it is not exactly symmetric: its grid lookups round
+    down, and near-ties go one way): mirrored demonstrations are the teacher's choices."""
+    from agents.imitation.mirror import mirrored
+    from agents.scripted.geometry import Geometry
+
+    env = CupboardSearchEnv(**PROBE_GPIS)
+    geometry = Geometry.from_env(env)
+    same = near = 0
+    layouts = range(30)
+    for seed in layouts:
+        observation, info = env.reset(seed=seed)
+        planner = GpisProbePlanner()
+        planner.reset(env, observation, info)
+        probe = planner.act(observation)
+        demonstration = Demonstrations(
+            {key: value[None] for key, value in observation.items()},
+            probe[None],
+            *(np.zeros(1) for _ in range(4)),
+        )
+        image = mirrored(demonstration, geometry)
+        seen = {key: value[0] for key, value in image.observations.items()}
+        planner = GpisProbePlanner()
+        planner.reset(env, seen, info)
+        chosen = planner.act(seen)
+        same += np.array_equal(chosen, image.actions[0])
+        near += abs(int(chosen[0]) - int(image.actions[0][0])) <= 1
+    assert same >= 0.5 * len(layouts) and near >= 0.8 * len(layouts), (same, near)
+
+
+def test_mirroring_twice_gives_the_demonstrations_back_and_needs_a_symmetric_scene() -> None:
+    from agents.imitation.mirror import mirrored
+    from agents.scripted.geometry import Geometry
+
+    demonstrations = record([1, 2], PROBE_GPIS, GAMMA)
+    env = CupboardSearchEnv(**PROBE_GPIS)
+    geometry = Geometry.from_env(env)
+    twice = mirrored(mirrored(demonstrations, geometry), geometry)
+    for key, value in demonstrations.observations.items():
+        np.testing.assert_array_equal(twice.observations[key], value)
+    np.testing.assert_array_equal(twice.actions, demonstrations.actions)
+    once = mirrored(demonstrations, geometry)
+    assert not np.array_equal(once.observations["map"], demonstrations.observations["map"])
+    lopsided = CupboardSearchEnv(**PROBE_GPIS, camera_position=[0.05, -0.25, 0.075])
+    with pytest.raises(ValueError, match="the camera's x"):
+        mirrored(demonstrations, Geometry.from_env(lopsided))

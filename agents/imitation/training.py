@@ -25,6 +25,7 @@ import numpy as np
 
 from agents.imitation.cloning import CloningSettings, agreement, clone
 from agents.imitation.demonstrations import Demonstrations, record
+from agents.imitation.mirror import check_symmetric, mirrored
 from agents.run_dir import (
     MODEL_FILE,
     code_version,
@@ -36,8 +37,9 @@ from agents.run_dir import (
 )
 from agents.sb3.recipes import algorithm_class, load_hyperparams, new_model
 from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS, make_training_env
+from agents.scripted.geometry import Geometry
 from agents.scripted.gpis_probe_planner import GpisProbePlanner
-from tactile_search import ENV_ID
+from tactile_search import ENV_ID, CupboardSearchEnv
 from tactile_search._validation import as_count
 
 #: The share of the teacher's layouts held out to measure agreement.
@@ -47,14 +49,17 @@ HELD_OUT = 0.1
 @dataclasses.dataclass(frozen=True)
 class ImitationSettings:
     """The teacher's episodes, the DAgger rounds, the student's episodes per round, the
-    cloning (its ``epochs`` for the teacher's demonstrations) and the passes over everything
-    gathered after each DAgger round (continuing from the weights before it)."""
+    cloning (its ``epochs`` for the teacher's demonstrations), the passes over everything
+    gathered after each DAgger round (continuing from the weights before it), and whether
+    mirror images of the states are cloned too."""
 
     demo_episodes: int = 2000
     dagger_rounds: int = 3
     dagger_episodes: int = 1000
     cloning: CloningSettings = dataclasses.field(default_factory=CloningSettings)
     dagger_epochs: int = 15
+    #: Clone each demonstrated state and its mirror image (``agents.imitation.mirror``).
+    mirror: bool = False
 
     def __post_init__(self) -> None:
         as_count("demo_episodes", self.demo_episodes, minimum=2)
@@ -123,6 +128,8 @@ def imitate(
             demonstrations.save(demonstrations_file)
     train, held_out = demonstrations.split_by_layout(HELD_OUT, seed)
     say(f"teacher: {len(demonstrations)} probes on {len(teacher_layouts)} layouts")
+    augmented = _augmentation(settings.mirror, env_kwargs)
+    train = augmented(train)
     history = clone(policy, train, settings.cloning)
     rounds = [_round_record(0, demonstrations, history, policy, held_out)]
     say(f"cloned: {rounds[-1]}")
@@ -134,7 +141,7 @@ def imitate(
         torch.manual_seed(seed * 1000 + index)
         labelled = record(round_layouts, env_kwargs, gamma, student=_sampling_student(model))
         probes += len(labelled)
-        gathered = Demonstrations.concatenate([gathered, labelled])
+        gathered = Demonstrations.concatenate([gathered, augmented(labelled)])
         again = dataclasses.replace(
             settings.cloning, epochs=settings.dagger_epochs, seed=settings.cloning.seed + index
         )
@@ -160,6 +167,7 @@ def imitate(
             "dagger_rounds": settings.dagger_rounds,
             "dagger_episodes": settings.dagger_episodes,
             "dagger_epochs": settings.dagger_epochs,
+            "mirror": settings.mirror,
             "held_out_layouts": held_out.episodes,
             "cloning": dataclasses.asdict(settings.cloning),
             "rounds": rounds,
@@ -170,6 +178,22 @@ def imitate(
     write_run_config(run_dir, config)
     save_model_atomically(model, run_dir / MODEL_FILE)
     return run_dir
+
+
+def _augmentation(mirror: bool, env_kwargs: dict[str, Any]) -> Any:
+    """Demonstrations -> what is cloned: with ``mirror``, each state and its mirror image
+    (the scene's symmetry is checked here, once), else the states as they are."""
+    if not mirror:
+        return lambda demonstrations: demonstrations
+    env = CupboardSearchEnv(**env_kwargs)
+    geometry = Geometry.from_env(env)
+    env.close()
+    check_symmetric(geometry)
+
+    def with_mirror_images(demonstrations: Demonstrations) -> Demonstrations:
+        return Demonstrations.concatenate([demonstrations, mirrored(demonstrations, geometry)])
+
+    return with_mirror_images
 
 
 def _training_layouts(seed: int, count: int) -> list[int]:

@@ -9,7 +9,7 @@ use crate::episode::observation::PROPRIO_FIELDS;
 use crate::episode::MapMode;
 use crate::settings::Choice;
 
-/// The observation layout: `{"proprio": [{"name", "index", "scale", "meaning"}, ...],
+/// The observation layout: `{"proprio": [{"name", "index", "scale", "meaning", "mirror"}, ...],
 /// "map_channels": [{"mode", "channel", "name", "encoding"}, ...]}`.
 #[pyfunction]
 pub(crate) fn observation_layout(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
@@ -20,6 +20,7 @@ pub(crate) fn observation_layout(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> 
         d.set_item("index", index)?;
         d.set_item("scale", field.scale)?;
         d.set_item("meaning", field.meaning)?;
+        d.set_item("mirror", field.mirror)?;
         proprio.append(d)?;
     }
     let channels = PyList::empty(py);

@@ -33,6 +33,11 @@ pub struct ProprioField {
     pub scale: &'static str,
     /// What the entry means.
     pub meaning: &'static str,
+    /// The entry's factor in the scene's mirror image (x -> -x about the cupboard's centre
+    /// plane, yaw -> -yaw): 1 where the entry is kept, -1 where it is negated. Exact while the
+    /// hand's workspace is symmetric in x, as it is by default; learners augment their data
+    /// with mirrored observations.
+    pub mirror: f64,
     /// Computes the entry (before the cast to f32).
     pub value: fn(&ProprioInputs<'_>) -> f64,
 }
@@ -56,6 +61,7 @@ pub const PROPRIO_FIELDS: [ProprioField; 11] = [
         name: "x",
         scale: "2 (x - x_min) / (x_max - x_min) - 1, clamped",
         meaning: "wrist x (along the opening) over the hand's workspace",
+        mirror: -1.0,
         value: |p| {
             let [x0, x1] = p.config.scene.hand.workspace[0];
             scaled(p.pose.x, x0, x1)
@@ -65,6 +71,7 @@ pub const PROPRIO_FIELDS: [ProprioField; 11] = [
         name: "y",
         scale: "2 (y - y_min) / (y_max - y_min) - 1, clamped",
         meaning: "wrist y (into the cupboard) over the hand's workspace",
+        mirror: 1.0,
         value: |p| {
             let [y0, y1] = p.config.scene.hand.workspace[1];
             scaled(p.pose.y, y0, y1)
@@ -74,54 +81,63 @@ pub const PROPRIO_FIELDS: [ProprioField; 11] = [
         name: "cos_yaw",
         scale: "cos(yaw)",
         meaning: "cosine of the wrist yaw (0 points the finger into the cupboard)",
+        mirror: 1.0,
         value: |p| p.pose.yaw.cos(),
     },
     ProprioField {
         name: "sin_yaw",
         scale: "sin(yaw)",
         meaning: "sine of the wrist yaw",
+        mirror: -1.0,
         value: |p| p.pose.yaw.sin(),
     },
     ProprioField {
         name: "deflection",
         scale: "angle / finger_limit, clamped",
         meaning: "the compliant finger's deflection from the wrist",
+        mirror: -1.0,
         value: |p| (p.finger_angle / p.config.scene.hand.finger_limit).clamp(-1.0, 1.0),
     },
     ProprioField {
         name: "in_contact",
         scale: "0 or 1",
         meaning: "1 when the finger made at least one tactile reading this step",
+        mirror: 1.0,
         value: |p| if p.contact.is_some() { 1.0 } else { 0.0 },
     },
     ProprioField {
         name: "contact_dx",
         scale: "dx / finger_length, clamped",
         meaning: "the first reading's x offset from the wrist (0 without contact)",
+        mirror: -1.0,
         value: |p| contact_offset(p, 0),
     },
     ProprioField {
         name: "contact_dy",
         scale: "dy / finger_length, clamped",
         meaning: "the first reading's y offset from the wrist (0 without contact)",
+        mirror: 1.0,
         value: |p| contact_offset(p, 1),
     },
     ProprioField {
         name: "normal_x",
         scale: "unit vector",
         meaning: "x of the touched jar's outward normal at the first reading (0 without)",
+        mirror: -1.0,
         value: |p| p.contact.map_or(0.0, |c| c.normal[0]),
     },
     ProprioField {
         name: "normal_y",
         scale: "unit vector",
         meaning: "y of the touched jar's outward normal at the first reading (0 without)",
+        mirror: 1.0,
         value: |p| p.contact.map_or(0.0, |c| c.normal[1]),
     },
     ProprioField {
         name: "time_left",
         scale: "1 - steps / max_steps, floored at -1",
         meaning: "the share of the episode's time limit (max_steps) still left",
+        mirror: 1.0,
         value: |p| (1.0 - p.steps as f64 / p.config.max_steps as f64).max(-1.0),
     },
 ];
@@ -336,6 +352,58 @@ mod tests {
             let steps = decoded.iter().find(|(n, _)| *n == "steps").unwrap().1;
             assert_eq!(steps, Quantity::Count(17 * k as i64));
         }
+    }
+
+    /// The mirror image of the hand's state (x, yaw, the finger's deflection, the contact's
+    /// x offset and normal negated) gives each entry times its `mirror` factor.
+    #[test]
+    fn mirrored_inputs_negate_the_entries_marked_so() {
+        let config = EpisodeConfig::default();
+        let [x0, x1] = config.scene.hand.workspace[0];
+        assert_eq!(x0, -x1, "the default workspace is symmetric in x");
+        for (k, yaw) in [-1.1, -0.3, 0.0, 0.7].into_iter().enumerate() {
+            let pose = HandPose {
+                x: -0.21 + 0.13 * k as f64,
+                y: 0.02 * k as f64,
+                yaw,
+            };
+            let contact = Contact {
+                point: [pose.x - 0.04, pose.y + 0.05],
+                normal: [0.8, -0.6],
+                jar: 1,
+            };
+            let mirrored_pose = HandPose {
+                x: -pose.x,
+                y: pose.y,
+                yaw: -yaw,
+            };
+            let mirrored_contact = Contact {
+                point: [-contact.point[0], contact.point[1]],
+                normal: [-contact.normal[0], contact.normal[1]],
+                jar: 1,
+            };
+            let inputs = |pose, finger_angle, contact| ProprioInputs {
+                pose,
+                finger_angle,
+                contact,
+                steps: 9 * k,
+                config: &config,
+            };
+            let angle = 0.2 - 0.15 * k as f64;
+            let original = inputs(pose, angle, Some(&contact));
+            let mirrored = inputs(mirrored_pose, -angle, Some(&mirrored_contact));
+            for field in &PROPRIO_FIELDS {
+                let (a, b) = ((field.value)(&original), (field.value)(&mirrored));
+                assert!(
+                    (b - field.mirror * a).abs() < 1e-12,
+                    "{}: {a} mirrored to {b}",
+                    field.name
+                );
+            }
+        }
+        assert!(PROPRIO_FIELDS
+            .iter()
+            .all(|f| f.mirror == 1.0 || f.mirror == -1.0));
     }
 
     #[test]
