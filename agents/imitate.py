@@ -48,6 +48,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument(
         "--mirror", action="store_true", help="clone the mirror image of every state too"
     )
+    parser.add_argument(
+        "--label", default="imitation", help="the agent's name in tables (a variant's name)"
+    )
     parser.add_argument("--torch-threads", type=int, default=1)
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
     args = parser.parse_args(argv)
@@ -76,6 +79,7 @@ def main(argv: list[str] | None = None) -> None:
         torch_threads=args.torch_threads,
         progress=not args.quiet,
         demonstrations_file=args.demos,
+        label=args.label,
     )
     print(run_dir)
 

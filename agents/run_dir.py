@@ -180,12 +180,21 @@ def read_run_config(run_dir: Path, required: tuple[str, ...] = ("algo", "map", "
                 f"tactile_search {tactile_search.__version__}: the environment may differ from "
                 "the one the run trained in; retrain it, or install that version"
             )
+    label = config.get("label")
+    if label is not None and (not isinstance(label, str) or not label or "(" in label):
+        raise ValueError(f"{path}: label must be a non-empty name without '(', got {label!r}")
     if "hyperparams" in required:
         recipe = config["hyperparams"]
         needed = ("n_timesteps", "n_envs", "policy", "env_kwargs")
         if not isinstance(recipe, dict) or any(key not in recipe for key in needed):
             raise ValueError(f"{path}: hyperparams must be a mapping with the keys {needed}")
     return config
+
+
+def run_label(config: dict) -> str:
+    """What tables call a run's agent: its config's ``label`` (a variant's name, such as
+    ``imitation``), else its ``algo``."""
+    return str(config.get("label") or config["algo"])
 
 
 def is_finished(run_dir: Path, config: dict) -> bool:

@@ -36,6 +36,7 @@ def main(argv: list[str] | None = None) -> None:
         "--env-threads", type=int, help="the environment batch's threads (default: every core)"
     )
     parser.add_argument("--out", type=Path, default=Path("runs"))
+    parser.add_argument("--label", help="the agent's name in tables instead of the algo")
     parser.add_argument("--hyperparams", type=Path, help="a recipe file instead of the default")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.add_argument(
@@ -78,6 +79,7 @@ def main(argv: list[str] | None = None) -> None:
             keep_checkpoints=args.keep_checkpoints,
             resume=args.resume,
             init_from=args.init_from,
+            label=args.label,
         )
     except KeyboardInterrupt:
         sys.exit(INTERRUPTED_EXIT_STATUS)

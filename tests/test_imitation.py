@@ -236,6 +236,7 @@ def test_the_command_writes_a_run_that_evaluates_and_warm_starts_ppo(tmp_path: P
     assert rounds[0]["layouts"] == 100 and rounds[1]["layouts"] == 60
     assert config["timesteps_done"] == sum(r["states"] for r in rounds) >= 200
     agent = LearnedAgent(run_dir)
+    assert config["label"] == "imitation" and agent.name == "imitation (gpis map)"
     env = CupboardSearchEnv(**agent.env_kwargs)
     observation, info = env.reset(seed=seed_ranges.VALIDATION[0])
     agent.reset(env, observation, info)

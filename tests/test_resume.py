@@ -355,6 +355,10 @@ BROKEN = {
         "model.zip expects the observation space",
         lambda d: _edit_config(d, lambda c: {**c, "map": "gpis"}),
     ),
+    "a label that is no name": (
+        "label must be a non-empty name",
+        lambda d: _edit_config(d, lambda c: {**c, "label": "ppo (none map)"}),
+    ),
 }
 
 
@@ -371,8 +375,12 @@ def test_a_broken_model_directory_raises_a_value_error_naming_the_file(
     assert str(run_dir) in str(raised.value)
 
 
-def test_the_intact_model_directory_loads(small_run: Path):
+def test_the_intact_model_directory_loads(small_run: Path, tmp_path: Path):
     assert LearnedAgent(small_run).name == "ppo (none map)"
+    labelled = tmp_path / "labelled"
+    shutil.copytree(small_run, labelled)
+    _edit_config(labelled, lambda c: {**c, "label": "ppo_finetuned"})
+    assert LearnedAgent(labelled).name == "ppo_finetuned (none map)"
     with zipfile.ZipFile(small_run / "model.zip") as archive:
         assert "data" in archive.namelist()
     assert os.path.getsize(small_run / "model.zip") > 3000

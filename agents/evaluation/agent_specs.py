@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from agents.run_dir import run_label
 from agents.scripted import SCRIPTED_AGENTS
 
 # How a learned agent picks its actions: as its recipe says (deterministic_evaluation), the
@@ -77,7 +78,7 @@ def unique_names(agents: Sequence[Any], specs: Sequence[str]) -> list[str]:
     for i, (agent, spec) in enumerate(zip(agents, specs, strict=True)):
         if given.count(agent.name) > 1 and spec not in SCRIPTED_AGENTS:
             config = agent.config
-            names[i] = seeded_name(config["algo"], config["map"], config["seed"])
+            names[i] = seeded_name(run_label(config), config["map"], config["seed"])
     repeated = sorted({name for name in names if names.count(name) > 1})
     if repeated:
         raise ValueError(f"each agent may be evaluated once, got {repeated} more than once")

@@ -79,12 +79,14 @@ def imitate(
     env_id: str = ENV_ID,
     progress: bool = True,
     demonstrations_file: Path | None = None,
+    label: str = "imitation",
 ) -> Path:
     """Clones the planner into the PPO recipe's network for ``map_mode``; the run directory.
 
     ``demonstrations_file`` (an ``.npz``) keeps the teacher's demonstrations: read if it
     exists (it must hold this run's layouts), else recorded and written there, so that
-    variants of a run clone the same demonstrations."""
+    variants of a run clone the same demonstrations. ``label`` names the agent in tables
+    (``config.yml``'s ``label``; evaluations call it ``imitation (gpis map)``)."""
     import torch
     from stable_baselines3.common.utils import set_random_seed
 
@@ -152,6 +154,7 @@ def imitate(
     run_dir.mkdir(parents=True, exist_ok=True)
     config: dict[str, Any] = {
         "algo": "ppo",
+        "label": label,
         "env_id": env_id,
         "map": map_mode,
         "seed": seed,

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from agents.run_dir import read_run_config
+from agents.run_dir import read_run_config, run_label
 from agents.sb3.recipes import algorithm_class, load_objects
 from tactile_search.benchmark.policies import EpisodeActions
 from tactile_search.envs.config import REWARD_KEYS
@@ -90,7 +90,9 @@ class LearnedAgent:
         self.map_mode: str = self.config["map"]
         #: The settings of the env this agent is evaluated in (``evaluation_env_kwargs``).
         self.env_kwargs: dict[str, Any] = evaluation_env_kwargs(self.config)
-        self.name = name or learned_agent_name(self.config["algo"], self.map_mode)
+        #: What tables call the agent: the run's ``label`` (a variant's name), else its algo.
+        self.label: str = run_label(self.config)
+        self.name = name or learned_agent_name(self.label, self.map_mode)
         self.model = load_model(model_path, self.config["algo"], self.config.get("hyperparams"))
         self._check_spaces(model_path)
         # The policy's mode (argmax, mean) or a sample from it: the recipe says which

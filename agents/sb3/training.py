@@ -122,6 +122,7 @@ def train(
     resume: bool = False,
     code: dict[str, Any] | None = None,
     init_from: Path | None = None,
+    label: str | None = None,
 ) -> Path:
     """Trains one agent and returns its run directory (``model.zip``, ``config.yml``, logs).
 
@@ -129,6 +130,9 @@ def train(
     ``docs/results/models/``) warm-starts the policy: its weights, for the same algorithm and
     network, are loaded before training (the optimizer starts afresh); ``config.yml`` records
     the path and the model's digest under ``init_from``.
+
+    ``label`` (recorded in ``config.yml``) names the agent in tables instead of ``algo``
+    (a variant, such as a fine-tuned clone).
 
     ``config.yml`` records ``code`` (the git commit and whether the tree was dirty), by
     default ``code_version()`` of this checkout.
@@ -197,6 +201,7 @@ def train(
         _clear_for_fresh_start(run_dir)
         config = {
             "algo": algo,
+            **({"label": label} if label else {}),
             "env_id": env_id,
             "map": map_mode,
             "seed": seed,
