@@ -61,6 +61,35 @@ def test_a_probe_step_is_many_motions_with_their_rewards_summed() -> None:
     assert isinstance(truncated, bool)
 
 
+def test_the_cores_motion_count_is_what_a_probe_that_touches_nothing_takes() -> None:
+    """``probe_motions`` (from the settings alone) against the env: a probe that touches
+    nothing takes exactly the counted motions, from the start and then from wherever the
+    last one ended (a lane change turns back, backs out, shifts and comes in)."""
+    env = CupboardSearchEnv(action_mode="probe", map="none")
+    observation, _ = env.reset(seed=1_000_003)
+    actions = ([14, 0, 4], [14, 0, 0], [3, 0, 8], [25, 1, 2], [25, 1, 2], [0, 0, 4])
+    checked = 0
+    for action in actions:
+        decoded = env.decode_proprio(observation["proprio"])
+        pose = (decoded["x"], decoded["y"], decoded["yaw"])
+        counted = env.probe_motions(pose, np.array([action], dtype=np.int64))
+        observation, _, terminated, truncated, info = env.step(np.array(action))
+        assert not terminated
+        if truncated:  # the time limit (200 motions) cut it
+            break
+        if info["contacts"] == 0 and not info["blocked"]:
+            # A probe already made waits one step (a motion that moves nothing).
+            assert info["motions"] == max(int(counted[0]), 1), action
+            checked += 1
+        else:  # a touch stops the probe early
+            assert info["motions"] <= counted[0], action
+    assert checked >= 3
+    with pytest.raises(ValueError, match="action\\[1\\]"):
+        env.probe_motions((0.0, 0.0, 0.0), np.array([[0, 10, 0]], dtype=np.int64))
+    with pytest.raises(ValueError, match="shape"):
+        env.probe_motions((0.0, 0.0, 0.0), np.zeros((2, 2), dtype=np.int64))
+
+
 def test_the_vector_envs_step_probe_batches() -> None:
     vector = CupboardSearchVectorEnv(num_envs=3, action_mode="probe", map="gpis")
     vector.reset(seed=[1_000_000, 1_000_001, 1_000_002])

@@ -52,7 +52,7 @@ class StaticConfigOnly:
     from a twin env of the same settings that never saw the episode (no episode, no scene, no
     oracle; any other attribute is an ``AttributeError``)."""
 
-    __slots__ = ("config", "decode_map", "decode_proprio", "geometry")
+    __slots__ = ("config", "decode_map", "decode_proprio", "geometry", "probe_motions")
 
     def __init__(self, env: CupboardSearchEnv) -> None:
         self.config = env.config
@@ -60,6 +60,7 @@ class StaticConfigOnly:
         self.geometry = twin.geometry
         self.decode_map = twin.decode_map
         self.decode_proprio = twin.decode_proprio
+        self.probe_motions = twin.probe_motions
 
 
 @pytest.mark.parametrize("seed", PLANNER_SEEDS[:3])

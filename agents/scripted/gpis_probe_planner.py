@@ -14,7 +14,8 @@ out and across to change lanes, straight in along the lane, then the turn; a pro
 touches stops there), and what it touched from the map and the contact in the observation.
 It then scores every probe of the grid the wrist and arm can make without coming near a
 cell that may hold a jar, with a sweep no wider than the largest safe turn, by the hiding
-weight its finger passes over per motion the controller will make, as ``GpisPlanner`` does
+weight its finger passes over per motion the controller will make (the core counts them:
+``probe_motions``), as ``GpisPlanner`` does
 on its own finer probes.
 """
 
@@ -49,6 +50,8 @@ class GpisProbePlanner(GpisPlanner):
                 f"GpisProbePlanner needs action_mode='probe', got {env.config.action_mode!r}"
             )
         super().reset(env, observation, info)
+        # The core's count of the controller's motions per probe (from the settings alone).
+        self._probe_motions = env.probe_motions
         self._chosen = None
         self._remember_touch(self._pose(observation["proprio"]))
 
@@ -139,7 +142,7 @@ class GpisProbePlanner(GpisPlanner):
         g = self.geometry
         field = ClearanceField(self.belief, self.belief.blocked())
         solid = ClearanceField(self.belief, self.belief.solid(0.0))
-        candidates = []
+        reachable = []
         for lane, x in enumerate(g.probe_lanes):
             deepest = self._deepest_clear(field, solid, float(x))
             if deepest is None:
@@ -159,9 +162,15 @@ class GpisProbePlanner(GpisPlanner):
                     probe = Probe(float(x), float(y), side, angle)
                     if self._is_here(pose, probe, float(yaw)):
                         continue  # a wait: the scene does not change while the hand waits
-                    motions = self._motions(pose, probe, float(yaw))
-                    candidates.append(((lane, depth, sweep), probe, motions))
-        return candidates
+                    reachable.append(((lane, depth, sweep), probe))
+        if not reachable:
+            return []
+        indices = np.array([index for index, _ in reachable], dtype=np.int64)
+        motions = self._probe_motions((pose.x, pose.y, pose.yaw), indices)
+        return [
+            (index, probe, float(count))
+            for (index, probe), count in zip(reachable, motions, strict=True)
+        ]
 
     @staticmethod
     def _is_here(pose: Pose, probe: Probe, yaw: float) -> bool:
@@ -171,18 +180,3 @@ class GpisProbePlanner(GpisPlanner):
             and abs(pose.y - probe.y) <= LANE_TOL
             and abs(pose.yaw - yaw) <= YAW_TOL
         )
-
-    def _motions(self, pose: Pose, probe: Probe, yaw: float) -> float:
-        """The wrist motions the core's controller takes from ``pose`` to carry out
-        ``probe`` (ending at ``yaw``): turn back, back out and across to change lanes, in or
-        back along the lane, then the turn."""
-        g = self.geometry
-        step = g.max_step_translation
-        if abs(pose.x - probe.x) <= LANE_TOL:
-            if abs(pose.y - probe.y) <= LANE_TOL:
-                return abs(yaw - pose.yaw) / g.probe_sweep_rate
-            moves = abs(pose.y - probe.y) / step
-        else:
-            out = g.probe_outside
-            moves = (max(pose.y - out, 0.0) + abs(pose.x - probe.x) + abs(probe.y - out)) / step
-        return abs(pose.yaw) / g.max_step_yaw + moves + abs(yaw) / g.probe_sweep_rate

@@ -1,5 +1,5 @@
 //! The inverses of the core's encodings and the static geometry, for Python planners
-//! (`EpisodeBatch.decode_map`, `.decode_proprio`, `.geometry`): what the core knows of the
+//! (`EpisodeBatch.decode_map`, `.decode_proprio`, `.geometry`, `.probe_motions`): what the core knows of the
 //! observation's meaning, so no planner re-types a scale or a size. The core does the work
 //! ([`crate::episode::maps::decode_image`], [`crate::episode::decode_proprio`],
 //! [`crate::episode::StaticGeometry`]); this file checks the arrays and builds the dicts.
@@ -13,7 +13,10 @@ use pyo3::types::PyDict;
 
 use super::errors::{shape_text, type_name, wrong_shape, wrong_type, wrong_value};
 use crate::episode::maps::decode_image;
-use crate::episode::{decode_proprio, EpisodeConfig, Quantity, StaticGeometry, PROPRIO_LEN};
+use crate::episode::{
+    decode_proprio, EpisodeConfig, ProbeController, Quantity, StaticGeometry, PROPRIO_LEN,
+};
+use crate::scene::HandPose;
 use crate::settings::Choice;
 
 /// The values of `value`, a numpy array of dtype `T` (named `dtype`) and exactly `shape`,
@@ -140,4 +143,51 @@ pub(super) fn geometry_dict<'py>(
     d.set_item("probe_outside", probes.outside)?;
     d.set_item("probe_sweep_rate", probes.sweep_rate)?;
     Ok(d)
+}
+
+/// The wrist motions the `probe` mode's controller of `config` makes from the wrist `pose`
+/// (x, y, yaw) to finish each probe of `actions`, an `(n, 3)` int64 array of indices, when
+/// nothing touches or blocks the hand ([`ProbeController::motions`]): `TypeError` for
+/// anything but an int64 array, `ValueError` for another shape, an index outside the counts
+/// or a non-finite pose.
+pub(super) fn probe_motions<'py>(
+    py: Python<'py>,
+    config: &EpisodeConfig,
+    pose: [f64; 3],
+    actions: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArray1<i64>>> {
+    const WHAT: &str = "actions";
+    let expected = "an int64 numpy array of shape (n, 3)";
+    let Ok(array) = actions.cast::<PyArrayDyn<i64>>() else {
+        return Err(match actions.getattr("dtype") {
+            Ok(got) => PyTypeError::new_err(format!(
+                "{WHAT} must be {expected}, got {} of dtype {}",
+                type_name(actions),
+                got.str()?
+            )),
+            Err(_) => wrong_type(WHAT, expected, actions),
+        });
+    };
+    let shape = array.shape().to_vec();
+    if shape.len() != 2 || shape[1] != 3 {
+        return Err(wrong_shape(WHAT, "(n, 3)", &shape));
+    }
+    if pose.iter().any(|v| !v.is_finite()) {
+        return Err(wrong_value(
+            "pose",
+            "finite (x, y, yaw)",
+            format!("{pose:?}"),
+        ));
+    }
+    let values: Vec<i64> = array.try_readonly()?.as_array().iter().copied().collect();
+    let controller = ProbeController::for_episode(config);
+    let [x, y, yaw] = pose;
+    let from = HandPose { x, y, yaw };
+    let mut motions = Vec::with_capacity(shape[0]);
+    for row in values.chunks_exact(3) {
+        let action = [row[0] as f64, row[1] as f64, row[2] as f64];
+        controller.check(&action)?;
+        motions.push(controller.motions(from, &controller.probe(&action)) as i64);
+    }
+    Ok(PyArray1::from_vec(py, motions))
 }

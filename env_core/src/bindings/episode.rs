@@ -15,7 +15,7 @@ use pyo3::types::{PyDict, PyList};
 use super::actions::action_rows;
 use super::batch_arrays::BatchArrays;
 use super::convert::seed_of;
-use super::decode::{geometry_dict, map_dict, proprio_dict};
+use super::decode::{geometry_dict, map_dict, probe_motions, proprio_dict};
 use super::errors::{episode_error, episode_index_error, wrong_type, wrong_value};
 use super::exclusive::Exclusive;
 use super::settings::{config_dict, config_from, describe};
@@ -500,5 +500,20 @@ impl PyEpisodeBatch {
     /// controller backs out to before changing lanes; `probe_sweep_rate`).
     fn geometry<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         geometry_dict(py, &self.config)
+    }
+
+    /// The wrist motions the `probe` mode's controller makes from the wrist `pose` (x, y,
+    /// yaw; m, m, rad) to finish each probe of `actions` (an `(n, 3)` int64 array of lane,
+    /// depth and sweep indices) when nothing touches or blocks the hand: an `(n,)` int64
+    /// array, from the settings alone (no scene). What a planner choosing probes weighs
+    /// them by. `TypeError` for anything but an int64 array, `ValueError` for another
+    /// shape, an index outside the counts or a non-finite pose.
+    fn probe_motions<'py>(
+        &self,
+        py: Python<'py>,
+        pose: [f64; 3],
+        actions: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<i64>>> {
+        probe_motions(py, &self.config, pose, actions)
     }
 }

@@ -57,13 +57,7 @@ impl Episode {
         let kind = config.map.mode.kind();
         let map = (kind.build)(&config.map, &grid)?;
         let scene = Scene::new(config.scene.clone(), seed)?;
-        let cupboard = &config.scene.cupboard;
-        let probes = ProbeController::new(
-            &config.probe,
-            &config.scene.hand,
-            cupboard.width,
-            cupboard.depth,
-        );
+        let probes = ProbeController::for_episode(&config);
         let mut episode = Self {
             config,
             grid,

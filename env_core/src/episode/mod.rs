@@ -41,6 +41,6 @@ pub use error::EpisodeError;
 pub use maps::{MapConfig, MapMode};
 pub use observation::{decode_proprio, Quantity, PROPRIO_FIELDS, PROPRIO_LEN};
 pub use oracle::oracle_action;
-pub use probe::{ActionMode, ProbeConfig, ProbeGrid};
+pub use probe::{ActionMode, Probe, ProbeConfig, ProbeController, ProbeGrid};
 pub use static_geometry::StaticGeometry;
 pub use step_info::{StepInfo, STEP_INFO_FIELDS};

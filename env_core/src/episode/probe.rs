@@ -24,6 +24,7 @@
 //! Which lane is clear, how deep to go and which way to turn is the agent's decision: the
 //! controller does not read the map, so every map mode gets the same controller.
 
+use super::config::EpisodeConfig;
 use super::error::EpisodeError;
 use crate::scene::hand::reach;
 use crate::scene::{HandConfig, HandPose};
@@ -180,6 +181,17 @@ impl ProbeController {
         }
     }
 
+    /// The controller of an episode of `config` (its probe settings, hand and cupboard).
+    pub fn for_episode(config: &EpisodeConfig) -> Self {
+        let cupboard = &config.scene.cupboard;
+        Self::new(
+            &config.probe,
+            &config.scene.hand,
+            cupboard.width,
+            cupboard.depth,
+        )
+    }
+
     /// Checks that `action` holds three indices within the counts.
     pub fn check(&self, action: &[f64; 3]) -> Result<(), EpisodeError> {
         for (index, (&value, count)) in action.iter().zip(self.config.counts()).enumerate() {
@@ -269,7 +281,30 @@ impl ProbeController {
         let turn = (probe.yaw - pose.yaw).clamp(-self.config.sweep_rate, self.config.sweep_rate);
         (Phase::Sweep, [0.0, 0.0, turn / self.max_yaw])
     }
+
+    /// How many wrist motions the controller makes from `pose` to finish `probe` when
+    /// nothing touches or blocks the hand: [`ProbeController::next_motion`] stepped on the
+    /// kinematic pose (each motion moved in full), as [`crate::episode::Episode`] steps it.
+    /// The cost a planner choosing probes weighs, from the controller itself. Cost O(motions).
+    pub fn motions(&self, mut pose: HandPose, probe: &Probe) -> usize {
+        let mut count = 0;
+        loop {
+            let (phase, [dx, dy, dyaw]) = self.next_motion(pose, probe);
+            // Each phase converges in a bounded number of motions; this bound is a bug's.
+            if phase == Phase::Done || count >= MAX_PROBE_MOTIONS {
+                return count;
+            }
+            pose.x += dx * self.max_step;
+            pose.y += dy * self.max_step;
+            pose.yaw += dyaw * self.max_yaw;
+            count += 1;
+        }
+    }
 }
+
+/// More motions than any probe of a valid configuration takes (the farthest lane change
+/// and the widest sweep at the slowest rates are a few thousand).
+const MAX_PROBE_MOTIONS: usize = 1_000_000;
 
 /// The sweep rate must not exceed the hand's turn per step.
 pub fn check_sweep_rate(probe: &ProbeConfig, hand: &HandConfig) -> Result<(), SettingError> {
@@ -364,6 +399,44 @@ mod tests {
         use Phase::*;
         assert_eq!(phases, [Unturn, Retreat, Shift, Enter, Sweep, Done]);
         assert!((pose.x - probe.x).abs() < 1e-9 && (pose.y - probe.y).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_motion_count_follows_the_controllers_own_path() {
+        let c = controller();
+        let hand = HandConfig::default();
+        let start = HandPose {
+            x: hand.start[0],
+            y: hand.start[1],
+            yaw: hand.start[2],
+        };
+        // Straight in from the start (y -0.125) to the opening (y 0) at 0.01 per motion.
+        assert_eq!(c.motions(start, &c.probe(&[14.0, 0.0, 4.0])), 13);
+        // Then the widest sweep, 1 rad at 0.05 per motion.
+        let there = HandPose { y: 0.0, ..start };
+        assert_eq!(c.motions(there, &c.probe(&[14.0, 0.0, 0.0])), 20);
+        // A lane change counts every phase, as the stepped loop makes them.
+        let probe = c.probe(&[20.0, 5.0, 0.0]);
+        let mut pose = HandPose {
+            x: 0.0,
+            y: 0.1,
+            yaw: 0.3,
+        };
+        let from = pose;
+        let mut stepped = 0;
+        loop {
+            let (phase, [dx, dy, dyaw]) = c.next_motion(pose, &probe);
+            if phase == Phase::Done {
+                break;
+            }
+            pose.x += dx * hand.max_step_translation;
+            pose.y += dy * hand.max_step_translation;
+            pose.yaw += dyaw * hand.max_step_yaw;
+            stepped += 1;
+        }
+        assert_eq!(c.motions(from, &probe), stepped);
+        assert!(stepped > 40);
+        assert_eq!(c.motions(pose, &probe), 0);
     }
 
     #[test]

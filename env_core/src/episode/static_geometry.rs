@@ -103,13 +103,7 @@ impl StaticGeometry {
             cell: scene.cupboard.depth / config.map.grid_shape.0 as f64,
             mean_scale: config.map.mean_scale,
             std_scale: config.map.std_scale,
-            probes: ProbeController::new(
-                &config.probe,
-                hand,
-                scene.cupboard.width,
-                scene.cupboard.depth,
-            )
-            .grid(),
+            probes: ProbeController::for_episode(config).grid(),
         })
     }
 

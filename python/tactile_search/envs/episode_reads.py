@@ -67,6 +67,17 @@ class EpisodeReads:
         each; row i along y, column j along x)."""
         return self._batch.geometry()
 
+    def probe_motions(self, pose: Any, actions: Any) -> np.ndarray:
+        """The wrist motions the ``probe`` action mode's controller makes from the wrist
+        ``pose`` (x, y, yaw; m, m, rad) to finish each probe of ``actions`` (an ``(n, 3)``
+        int64 array of lane, depth and sweep indices) when nothing touches or blocks the
+        hand: an ``(n,)`` int64 array, from the env's settings alone (no ground truth). What
+        a planner choosing probes weighs them by. ``TypeError`` for anything but an int64
+        array, ``ValueError`` for another shape, an index outside the counts or a
+        non-finite pose."""
+        x, y, yaw = (float(v) for v in pose)
+        return self._batch.probe_motions((x, y, yaw), actions)
+
     def render_state(self) -> dict[str, Any]:
         """Ground truth and map of the current state (jars, hand, contacts, map grids)."""
         return self._batch.render_state(self._episode_index)
