@@ -237,6 +237,9 @@ def test_the_command_writes_a_run_that_evaluates_and_warm_starts_ppo(tmp_path: P
     assert config["timesteps_done"] == sum(r["states"] for r in rounds) >= 200
     agent = LearnedAgent(run_dir)
     assert config["label"] == "imitation" and agent.name == "imitation (gpis map)"
+    cloned = LearnedAgent(run_dir / "rounds" / "round0")
+    assert cloned.name == "imitation_round0 (gpis map)"
+    assert cloned.config["timesteps_done"] == rounds[0]["states"]
     env = CupboardSearchEnv(**agent.env_kwargs)
     observation, info = env.reset(seed=seed_ranges.VALIDATION[0])
     agent.reset(env, observation, info)

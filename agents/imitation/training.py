@@ -11,7 +11,9 @@ student's mode is the teacher's probe.
 The run directory is a training run's (``agents.run_dir``): ``model.zip`` and ``config.yml``,
 whose ``imitation`` section records the settings and, per round, the states labelled, the
 student's agreement with its teacher and its success on the layouts it played;
-``timesteps_done`` counts the probes stepped (teacher's and student's).
+``timesteps_done`` counts the probes stepped (teacher's and student's). ``rounds/round<k>/``
+holds the student before DAgger round k+1 as a run of its own (``round0``: behaviour
+cloning alone), so each step evaluates on its own.
 """
 
 from __future__ import annotations
@@ -44,6 +46,9 @@ from tactile_search._validation import as_count
 
 #: The share of the teacher's layouts held out to measure agreement.
 HELD_OUT = 0.1
+#: Where a run keeps the student before each DAgger round, as runs of their own
+#: (``rounds/round0`` is behaviour cloning alone).
+ROUNDS_DIR = "rounds"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -130,28 +135,7 @@ def imitate(
             demonstrations.save(demonstrations_file)
     train, held_out = demonstrations.split_by_layout(HELD_OUT, seed)
     say(f"teacher: {len(demonstrations)} probes on {len(teacher_layouts)} layouts")
-    augmented = _augmentation(settings.mirror, env_kwargs)
-    train = augmented(train)
-    history = clone(policy, train, settings.cloning)
-    rounds = [_round_record(0, demonstrations, history, policy, held_out)]
-    say(f"cloned: {rounds[-1]}")
-    gathered = train
-    probes = len(demonstrations)
-    for index in range(1, settings.dagger_rounds + 1):
-        start = settings.demo_episodes + (index - 1) * settings.dagger_episodes
-        round_layouts = layouts[start : start + settings.dagger_episodes]
-        torch.manual_seed(seed * 1000 + index)
-        labelled = record(round_layouts, env_kwargs, gamma, student=_sampling_student(model))
-        probes += len(labelled)
-        gathered = Demonstrations.concatenate([gathered, augmented(labelled)])
-        again = dataclasses.replace(
-            settings.cloning, epochs=settings.dagger_epochs, seed=settings.cloning.seed + index
-        )
-        history = clone(policy, gathered, again)
-        rounds.append(_round_record(index, labelled, history, policy, held_out))
-        say(f"DAgger round {index}: {rounds[-1]}")
     run_dir = Path(out) / run_name("ppo", map_mode, seed)
-    run_dir.mkdir(parents=True, exist_ok=True)
     config: dict[str, Any] = {
         "algo": "ppo",
         "label": label,
@@ -173,13 +157,44 @@ def imitate(
             "mirror": settings.mirror,
             "held_out_layouts": held_out.episodes,
             "cloning": dataclasses.asdict(settings.cloning),
-            "rounds": rounds,
+            "rounds": [],
         },
-        "timesteps_done": probes,
-        "wall_clock_seconds": round(time.monotonic() - started, 1),
     }
-    write_run_config(run_dir, config)
-    save_model_atomically(model, run_dir / MODEL_FILE)
+
+    def save(directory: Path, probes: int, name: str) -> None:
+        done = {
+            "label": name,
+            "timesteps_done": probes,
+            "wall_clock_seconds": round(time.monotonic() - started, 1),
+        }
+        directory.mkdir(parents=True, exist_ok=True)
+        write_run_config(directory, {**config, **done})
+        save_model_atomically(model, directory / MODEL_FILE)
+
+    augmented = _augmentation(settings.mirror, env_kwargs)
+    train = augmented(train)
+    history = clone(policy, train, settings.cloning)
+    rounds = config["imitation"]["rounds"]
+    rounds.append(_round_record(0, demonstrations, history, policy, held_out))
+    say(f"cloned: {rounds[-1]}")
+    gathered = train
+    probes = len(demonstrations)
+    for index in range(1, settings.dagger_rounds + 1):
+        # The student before this round, as its own run (BC alone is round 0).
+        save(run_dir / ROUNDS_DIR / f"round{index - 1}", probes, f"{label}_round{index - 1}")
+        start = settings.demo_episodes + (index - 1) * settings.dagger_episodes
+        round_layouts = layouts[start : start + settings.dagger_episodes]
+        torch.manual_seed(seed * 1000 + index)
+        labelled = record(round_layouts, env_kwargs, gamma, student=_sampling_student(model))
+        probes += len(labelled)
+        gathered = Demonstrations.concatenate([gathered, augmented(labelled)])
+        again = dataclasses.replace(
+            settings.cloning, epochs=settings.dagger_epochs, seed=settings.cloning.seed + index
+        )
+        history = clone(policy, gathered, again)
+        rounds.append(_round_record(index, labelled, history, policy, held_out))
+        say(f"DAgger round {index}: {rounds[-1]}")
+    save(run_dir, probes, label)
     return run_dir
 
 
