@@ -89,26 +89,47 @@ def algorithm_kwargs(recipe: dict[str, Any]) -> dict[str, Any]:
                     f"policy_kwargs.{key} must name an importable class as module.Class, "
                     f"got {name!r} ({type(err).__name__}: {err})"
                 ) from err
+    if getattr(policy_class(recipe), "needs_probe_points", False):
+        extractor_kwargs = dict(policy_kwargs.get("features_extractor_kwargs") or {})
+        extractor_kwargs.setdefault("probe_points", _probe_points(recipe))
+        policy_kwargs["features_extractor_kwargs"] = extractor_kwargs
     if policy_kwargs:
         kwargs["policy_kwargs"] = policy_kwargs
     return kwargs
 
 
-def new_model(cls: type, recipe: dict[str, Any], env: Any, seed: int) -> Any:
-    """A fresh ``cls`` model (on the CPU) of ``recipe`` on ``env``: its ``policy`` is an SB3
-    alias (``MultiInputPolicy``) or a class by dotted path
-    (``agents.sb3.joint_probe_policy.JointProbePolicy``)."""
-    policy = recipe["policy"]
+def _probe_points(recipe: dict[str, Any]) -> list[list[float]]:
+    """The map points of every probe of the recipe's env (``spatial_probe_policy``), from
+    its static geometry."""
+    from agents.sb3.spatial_probe_policy import probe_points
+    from tactile_search import CupboardSearchEnv
+
+    env = CupboardSearchEnv(**recipe.get("env_kwargs", {}))
+    try:
+        return probe_points(env.geometry())
+    finally:
+        env.close()
+
+
+def policy_class(recipe: dict[str, Any]) -> Any:
+    """The recipe's ``policy``: an SB3 alias (``MultiInputPolicy``) as it is, or the class a
+    dotted path names (``agents.sb3.joint_probe_policy.JointProbePolicy``)."""
+    policy = recipe.get("policy")
     if isinstance(policy, str) and "." in policy:
         module, _, attribute = policy.rpartition(".")
         try:
-            policy = getattr(importlib.import_module(module), attribute)
+            return getattr(importlib.import_module(module), attribute)
         except (ImportError, AttributeError, ValueError) as err:
             raise ValueError(
                 f"policy must be an SB3 alias or an importable class as module.Class, got "
-                f"{recipe['policy']!r} ({type(err).__name__}: {err})"
+                f"{policy!r} ({type(err).__name__}: {err})"
             ) from err
-    return cls(policy, env, seed=seed, device="cpu", **algorithm_kwargs(recipe))
+    return policy
+
+
+def new_model(cls: type, recipe: dict[str, Any], env: Any, seed: int) -> Any:
+    """A fresh ``cls`` model (on the CPU) of ``recipe`` on ``env`` (``policy_class``)."""
+    return cls(policy_class(recipe), env, seed=seed, device="cpu", **algorithm_kwargs(recipe))
 
 
 def load_objects(recipe: dict[str, Any]) -> dict[str, Any]:
