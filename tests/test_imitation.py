@@ -244,10 +244,59 @@ def test_the_command_writes_a_run_that_evaluates_and_warm_starts_ppo(tmp_path: P
     observation, info = env.reset(seed=seed_ranges.VALIDATION[0])
     agent.reset(env, observation, info)
     assert env.action_space.contains(agent.act(observation).astype(np.int64))
-    warm = train_with_recipe(tmp_path / "ppo", "gpis", train_kwargs={"init_from": run_dir})
+    # Everything cloned: the teacher's probes but its held-out layouts', and the student's.
+    kept = len(Demonstrations.load(run_dir / "demonstrations.npz"))
+    assert rounds[1]["states"] < kept < config["timesteps_done"]
+    anchored = {"anchor_weight": 1.0, "anchor_decay_timesteps": 128}
+    warm = train_with_recipe(
+        tmp_path / "ppo", "gpis", train_kwargs={"init_from": run_dir}, **anchored
+    )
     assert yaml.safe_load((warm / "config.yml").read_text())["init_from"]["path"].startswith(
         str(run_dir)
     )
+    progress = (warm / "progress.csv").read_text().splitlines()
+    assert "anchor/nll" in progress[0] and "anchor/weight" in progress[0]
+    # An anchor needs the demonstrations of the model it starts from.
+    with pytest.raises(ValueError, match=r"demonstrations\.npz is missing"):
+        train_with_recipe(tmp_path / "again", "gpis", train_kwargs={"init_from": warm}, **anchored)
+
+
+def test_the_anchor_pulls_the_policy_towards_the_demonstrations() -> None:
+    """Before each rollout the anchor trains a few minibatches of the demonstrations with a
+    weight that decays to nothing: the demonstrations' NLL falls while it acts, and nothing
+    changes once it has decayed."""
+    import torch
+    from stable_baselines3.common.logger import Logger
+
+    from agents.imitation.anchor import behaviour_cloning_anchor
+    from agents.sb3.recipes import algorithm_class, load_hyperparams, new_model
+    from agents.sb3.training_env import make_training_env
+
+    demonstrations = map_rule_demonstrations(64)
+    recipe = load_hyperparams("ppo", "gpis")
+    model = new_model(
+        algorithm_class("ppo"), recipe, make_training_env(recipe["env_kwargs"], 16, 0), seed=0
+    )
+    model.set_logger(Logger(folder=None, output_formats=[]))
+    anchor = behaviour_cloning_anchor(demonstrations, weight=1.0, decay_timesteps=100)
+    anchor.init_callback(model)
+
+    def nll() -> float:
+        with torch.no_grad():
+            observations, _ = model.policy.obs_to_tensor(demonstrations.observations)
+            actions = torch.as_tensor(demonstrations.actions)
+            return -model.policy.evaluate_actions(observations, actions)[1].mean().item()
+
+    before = nll()
+    for _ in range(5):
+        anchor.on_rollout_start()
+    assert nll() < before - 0.1
+    model.num_timesteps = 100
+    weights = [p.detach().clone() for p in model.policy.parameters()]
+    anchor.on_rollout_start()
+    assert all(torch.equal(a, b) for a, b in zip(weights, model.policy.parameters(), strict=True))
+    with pytest.raises(ValueError, match="weight"):
+        behaviour_cloning_anchor(demonstrations, weight=-1.0, decay_timesteps=100)
 
 
 def test_the_mirror_image_of_a_state_gets_the_mirror_image_of_the_teachers_probe_mostly() -> None:

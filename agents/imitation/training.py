@@ -13,7 +13,8 @@ whose ``imitation`` section records the settings and, per round, the states labe
 student's agreement with its teacher and its success on the layouts it played;
 ``timesteps_done`` counts the probes stepped (teacher's and student's). ``rounds/round<k>/``
 holds the student before DAgger round k+1 as a run of its own (``round0``: behaviour
-cloning alone), so each step evaluates on its own.
+cloning alone), so each step evaluates on its own. ``demonstrations.npz`` keeps everything
+the last clone learned from (``agents.imitation.anchor`` anchors fine-tuning to it).
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from agents.imitation.anchor import DEMONSTRATIONS_FILE
 from agents.imitation.cloning import CloningSettings, agreement, clone
 from agents.imitation.demonstrations import Demonstrations, record
 from agents.imitation.mirror import check_symmetric, mirrored
@@ -195,6 +197,8 @@ def imitate(
         rounds.append(_round_record(index, labelled, history, policy, held_out))
         say(f"DAgger round {index}: {rounds[-1]}")
     save(run_dir, probes, label)
+    # What the last clone learned from, for anchoring PPO fine-tuning to it.
+    gathered.save(run_dir / DEMONSTRATIONS_FILE)
     return run_dir
 
 

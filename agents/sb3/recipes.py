@@ -24,6 +24,8 @@ RUN_KEYS = (
     "policy",
     "env_kwargs",
     "deterministic_evaluation",
+    "anchor_weight",
+    "anchor_decay_timesteps",
 )
 
 

@@ -225,6 +225,7 @@ def train(
         model, env, logger = _new_model(run_dir, cls, config, seed, env_id, env_threads, init_from)
         prior_seconds = 0.0
     model.set_logger(logger)
+    anchors = _anchors(config)
     config["checkpoint_every"] = checkpoint_every
     write_run_config(run_dir, config)
     command = resume_command(
@@ -241,6 +242,7 @@ def train(
             progress_bar,
             resume,
             command,
+            anchors,
         )
     except KeyboardInterrupt:
         logger.close()
@@ -442,6 +444,7 @@ def _learn(
     progress_bar: bool,
     resume: bool,
     resume_hint: str,
+    extra_callbacks: list[Any] | None = None,
 ) -> float:
     """Trains ``model`` to the recipe's total timesteps (or its wall-clock limit) with
     checkpoints, each recorded in ``config.yml``; returns the run's wall-clock seconds.
@@ -464,7 +467,7 @@ def _learn(
         write_run_config(run_dir, config)
 
     checkpointer = rollout_checkpoints(run_dir, checkpoint_every, keep_checkpoints, on_save)
-    callbacks = [checkpointer]
+    callbacks = [checkpointer, *(extra_callbacks or [])]
     limit = recipe.get("max_minutes")
     minutes_left = None if limit is None else limit - prior_seconds / 60
     if minutes_left is not None:
@@ -488,6 +491,29 @@ def _learn(
         )
         raise
     return elapsed()
+
+
+def _anchors(config: dict[str, Any]) -> list[Any]:
+    """The recipe's anchor to the demonstrations its policy was cloned from
+    (``anchor_weight`` > 0 and ``anchor_decay_timesteps``; ``agents.imitation.anchor``), for
+    a run warm-started from an imitation run; none without ``anchor_weight``."""
+    recipe = config["hyperparams"]
+    weight = recipe.get("anchor_weight")
+    if not weight:
+        return []
+    source = config.get("init_from")
+    if not isinstance(source, dict) or "path" not in source:
+        raise ValueError(
+            "the recipe's anchor_weight anchors fine-tuning to the demonstrations of the "
+            "model it starts from: give init_from (a run of agents.imitate)"
+        )
+    from agents.imitation.anchor import anchor_demonstrations, behaviour_cloning_anchor
+
+    decay = recipe.get("anchor_decay_timesteps", recipe["n_timesteps"])
+    demonstrations = anchor_demonstrations(Path(source["path"]))
+    return [
+        behaviour_cloning_anchor(demonstrations, float(weight), int(decay), seed=config["seed"])
+    ]
 
 
 def _source_objects(path: Path) -> dict[str, Any]:
