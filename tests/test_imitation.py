@@ -268,7 +268,7 @@ def test_the_anchor_pulls_the_policy_towards_the_demonstrations() -> None:
     import torch
     from stable_baselines3.common.logger import Logger
 
-    from agents.imitation.anchor import behaviour_cloning_anchor
+    from agents.sb3.anchor import behaviour_cloning_anchor
     from agents.sb3.recipes import algorithm_class, load_hyperparams, new_model
     from agents.sb3.training_env import make_training_env
 

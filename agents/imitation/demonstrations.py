@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from agents.sb3.anchor import OBSERVATION_PREFIX
 from agents.scripted.gpis_probe_planner import GpisProbePlanner
 from tactile_search import CupboardSearchEnv
 
@@ -106,16 +107,16 @@ class Demonstrations:
         np.savez_compressed(
             path,
             **{name: getattr(self, name) for name in PER_ROW},
-            **{f"observation_{key}": value for key, value in self.observations.items()},
+            **{f"{OBSERVATION_PREFIX}{key}": value for key, value in self.observations.items()},
         )
 
     @staticmethod
     def load(path: Path) -> Demonstrations:
         with np.load(path) as data:
             observations = {
-                name.removeprefix("observation_"): data[name]
+                name.removeprefix(OBSERVATION_PREFIX): data[name]
                 for name in data.files
-                if name.startswith("observation_")
+                if name.startswith(OBSERVATION_PREFIX)
             }
             missing = [name for name in PER_ROW if name not in data.files]
             if missing or not observations:

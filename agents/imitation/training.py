@@ -14,7 +14,7 @@ student's agreement with its teacher and its success on the layouts it played;
 ``timesteps_done`` counts the probes stepped (teacher's and student's). ``rounds/round<k>/``
 holds the student before DAgger round k+1 as a run of its own (``round0``: behaviour
 cloning alone), so each step evaluates on its own. ``demonstrations.npz`` keeps everything
-the last clone learned from (``agents.imitation.anchor`` anchors fine-tuning to it).
+the last clone learned from (``agents.sb3.anchor`` anchors fine-tuning to it).
 """
 
 from __future__ import annotations
@@ -26,7 +26,6 @@ from typing import Any
 
 import numpy as np
 
-from agents.imitation.anchor import DEMONSTRATIONS_FILE
 from agents.imitation.cloning import CloningSettings, agreement, clone
 from agents.imitation.demonstrations import Demonstrations, record
 from agents.imitation.mirror import check_symmetric, mirrored
@@ -39,6 +38,7 @@ from agents.run_dir import (
     versions,
     write_run_config,
 )
+from agents.sb3.anchor import DEMONSTRATIONS_FILE
 from agents.sb3.recipes import algorithm_class, load_hyperparams, new_model
 from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS, make_training_env
 from agents.scripted.geometry import Geometry

@@ -507,7 +507,7 @@ def _anchors(config: dict[str, Any]) -> list[Any]:
             "the recipe's anchor_weight anchors fine-tuning to the demonstrations of the "
             "model it starts from: give init_from (a run of agents.imitate)"
         )
-    from agents.imitation.anchor import anchor_demonstrations, behaviour_cloning_anchor
+    from agents.sb3.anchor import anchor_demonstrations, behaviour_cloning_anchor
 
     decay = recipe.get("anchor_decay_timesteps", recipe["n_timesteps"])
     demonstrations = anchor_demonstrations(Path(source["path"]))

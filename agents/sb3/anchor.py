@@ -1,4 +1,5 @@
-"""Behaviour cloning as an anchor while PPO fine-tunes a cloned policy.
+"""Behaviour cloning as an anchor while PPO fine-tunes a cloned policy (and the file of
+demonstrations it reads, which ``agents.imitation`` writes).
 
 Fine-tuned with PPO alone, a policy cloned from the planner improves for a while and then
 drifts: its entropy collapses and it learns to repeat probes until the time runs out
@@ -8,7 +9,8 @@ policy was cloned from are trained on again, their negative log-likelihood weigh
 weight that decays linearly to zero over the first ``decay_timesteps``: the policy starts
 as the teacher's clone and is free to improve on it later. An SB3 callback, so any
 on-policy algorithm of SB3 takes it; the demonstrations are those ``agents.imitate`` kept
-in its run (``demonstrations.npz``).
+in its run (``demonstrations.npz``: ``actions`` and one ``observation_<key>`` array per
+observation key, a row per state).
 """
 
 from __future__ import annotations
@@ -18,15 +20,29 @@ from typing import Any
 
 import numpy as np
 
-from agents.imitation.demonstrations import Demonstrations
 from tactile_search._validation import as_count
 
 #: The demonstrations an imitation run keeps beside its model: what its last clone learned.
 DEMONSTRATIONS_FILE = "demonstrations.npz"
+#: The prefix of an observation key's array in a file of demonstrations.
+OBSERVATION_PREFIX = "observation_"
+
+
+class Demonstrated:
+    """States and the probes demonstrated there: ``observations`` (key -> ``(n, ...)``) and
+    ``actions`` (``(n, 3)``), as the anchor reads them."""
+
+    def __init__(self, observations: dict[str, np.ndarray], actions: np.ndarray) -> None:
+        if any(len(value) != len(actions) for value in observations.values()):
+            raise ValueError("every observation array needs one row per action")
+        self.observations, self.actions = observations, actions
+
+    def __len__(self) -> int:
+        return len(self.actions)
 
 
 def behaviour_cloning_anchor(
-    demonstrations: Demonstrations,
+    demonstrations: Demonstrated,
     weight: float,
     decay_timesteps: int,
     batches: int = 4,
@@ -64,9 +80,10 @@ def behaviour_cloning_anchor(
             total = 0.0
             for _ in range(batches):
                 index = self.rng.integers(len(demonstrations), size=batch_size)
-                batch = demonstrations.rows(index)
-                observations, _ = policy.obs_to_tensor(batch.observations)
-                actions = torch.as_tensor(batch.actions, device=policy.device)
+                observations, _ = policy.obs_to_tensor(
+                    {key: value[index] for key, value in demonstrations.observations.items()}
+                )
+                actions = torch.as_tensor(demonstrations.actions[index], device=policy.device)
                 _, log_prob, _ = policy.evaluate_actions(observations, actions)
                 nll = -log_prob.mean()
                 policy.optimizer.zero_grad()
@@ -83,7 +100,7 @@ def behaviour_cloning_anchor(
     return BehaviourCloningAnchor()
 
 
-def anchor_demonstrations(init_from: Path) -> Demonstrations:
+def anchor_demonstrations(init_from: Path) -> Demonstrated:
     """The demonstrations kept beside the model ``init_from`` (an imitation run's
     ``model.zip``); ``ValueError`` naming the file when there are none."""
     path = Path(init_from).parent / DEMONSTRATIONS_FILE
@@ -92,4 +109,12 @@ def anchor_demonstrations(init_from: Path) -> Demonstrations:
             f"the recipe anchors fine-tuning to the demonstrations of init_from, but "
             f"{path} is missing (init_from must be a run of agents.imitate)"
         )
-    return Demonstrations.load(path)
+    with np.load(path) as data:
+        observations = {
+            name.removeprefix(OBSERVATION_PREFIX): data[name]
+            for name in data.files
+            if name.startswith(OBSERVATION_PREFIX)
+        }
+        if "actions" not in data.files or not observations:
+            raise ValueError(f"{path} is not a file of demonstrations")
+        return Demonstrated(observations, data["actions"])
