@@ -19,6 +19,25 @@ use crate::episode::{
 use crate::scene::HandPose;
 use crate::settings::Choice;
 
+/// `value` as a numpy array of dtype `T`: `TypeError` naming `expected`, and what came
+/// (its type and dtype), for anything else.
+fn typed_array<'a, 'py, T: Element>(
+    what: &str,
+    value: &'a Bound<'py, PyAny>,
+    expected: &str,
+) -> PyResult<&'a Bound<'py, PyArrayDyn<T>>> {
+    value.cast::<PyArrayDyn<T>>().or_else(|_| {
+        Err(match value.getattr("dtype") {
+            Ok(got) => PyTypeError::new_err(format!(
+                "{what} must be {expected}, got {} of dtype {}",
+                type_name(value),
+                got.str()?
+            )),
+            Err(_) => wrong_type(what, expected, value),
+        })
+    })
+}
+
 /// The values of `value`, a numpy array of dtype `T` (named `dtype`) and exactly `shape`,
 /// in row-major order: `TypeError` for anything else (naming its type and dtype),
 /// `ValueError` for another shape.
@@ -29,16 +48,7 @@ fn exact_array<T: Element + Copy>(
     shape: &[usize],
 ) -> PyResult<Vec<T>> {
     let expected = format!("a {dtype} numpy array of shape {}", shape_text(shape));
-    let Ok(array) = value.cast::<PyArrayDyn<T>>() else {
-        return Err(match value.getattr("dtype") {
-            Ok(got) => PyTypeError::new_err(format!(
-                "{what} must be {expected}, got {} of dtype {}",
-                type_name(value),
-                got.str()?
-            )),
-            Err(_) => wrong_type(what, &expected, value),
-        });
-    };
+    let array = typed_array::<T>(what, value, &expected)?;
     if array.shape() != shape {
         return Err(wrong_shape(what, &shape_text(shape), array.shape()));
     }
@@ -158,16 +168,7 @@ pub(super) fn probe_motions<'py>(
 ) -> PyResult<Bound<'py, PyArray1<i64>>> {
     const WHAT: &str = "actions";
     let expected = "an int64 numpy array of shape (n, 3)";
-    let Ok(array) = actions.cast::<PyArrayDyn<i64>>() else {
-        return Err(match actions.getattr("dtype") {
-            Ok(got) => PyTypeError::new_err(format!(
-                "{WHAT} must be {expected}, got {} of dtype {}",
-                type_name(actions),
-                got.str()?
-            )),
-            Err(_) => wrong_type(WHAT, expected, actions),
-        });
-    };
+    let array = typed_array::<i64>(WHAT, actions, expected)?;
     let shape = array.shape().to_vec();
     if shape.len() != 2 || shape[1] != 3 {
         return Err(wrong_shape(WHAT, "(n, 3)", &shape));
