@@ -204,6 +204,8 @@ def test_settings_refuse_what_cannot_train() -> None:
         ImitationSettings(demo_episodes=1)
     with pytest.raises(TypeError, match="dagger_rounds"):
         ImitationSettings(dagger_rounds=1.5)
+    with pytest.raises(TypeError, match="mirror"):
+        ImitationSettings(mirror="yes")
     with pytest.raises(ValueError, match="learning_rate"):
         CloningSettings(learning_rate=0.0)
     with pytest.raises(ValueError, match="entropy_weight"):

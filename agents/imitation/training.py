@@ -73,6 +73,8 @@ class ImitationSettings:
         as_count("dagger_rounds", self.dagger_rounds, minimum=0)
         as_count("dagger_episodes", self.dagger_episodes)
         as_count("dagger_epochs", self.dagger_epochs)
+        if not isinstance(self.mirror, bool):
+            raise TypeError(f"mirror must be a bool, got {type(self.mirror).__name__}")
 
 
 def imitate(
