@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from agents.sb3.anchor import OBSERVATION_PREFIX
+from agents.sb3.anchor import OBSERVATION_PREFIX, observations_in
 from agents.scripted.gpis_probe_planner import GpisProbePlanner
 from tactile_search import CupboardSearchEnv
 
@@ -113,11 +113,7 @@ class Demonstrations:
     @staticmethod
     def load(path: Path) -> Demonstrations:
         with np.load(path) as data:
-            observations = {
-                name.removeprefix(OBSERVATION_PREFIX): data[name]
-                for name in data.files
-                if name.startswith(OBSERVATION_PREFIX)
-            }
+            observations = observations_in(data)
             missing = [name for name in PER_ROW if name not in data.files]
             if missing or not observations:
                 raise ValueError(

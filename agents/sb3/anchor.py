@@ -28,6 +28,15 @@ DEMONSTRATIONS_FILE = "demonstrations.npz"
 OBSERVATION_PREFIX = "observation_"
 
 
+def observations_in(data: Any) -> dict[str, np.ndarray]:
+    """The observation arrays of a loaded file of demonstrations, by observation key."""
+    return {
+        name.removeprefix(OBSERVATION_PREFIX): data[name]
+        for name in data.files
+        if name.startswith(OBSERVATION_PREFIX)
+    }
+
+
 class Demonstrated:
     """States and the probes demonstrated there: ``observations`` (key -> ``(n, ...)``) and
     ``actions`` (``(n, 3)``), as the anchor reads them."""
@@ -110,11 +119,7 @@ def anchor_demonstrations(init_from: Path) -> Demonstrated:
             f"{path} is missing (init_from must be a run of agents.imitate)"
         )
     with np.load(path) as data:
-        observations = {
-            name.removeprefix(OBSERVATION_PREFIX): data[name]
-            for name in data.files
-            if name.startswith(OBSERVATION_PREFIX)
-        }
+        observations = observations_in(data)
         if "actions" not in data.files or not observations:
             raise ValueError(f"{path} is not a file of demonstrations")
         return Demonstrated(observations, data["actions"])
