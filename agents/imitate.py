@@ -15,6 +15,7 @@ from pathlib import Path
 
 from agents.imitation.cloning import CloningSettings
 from agents.imitation.training import ImitationSettings, imitate
+from agents.run_dir import ALGORITHMS
 from tactile_search.envs.config import MAP_MODES
 
 
@@ -22,6 +23,7 @@ def main(argv: list[str] | None = None) -> None:
     defaults = ImitationSettings()
     cloning = CloningSettings()
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--algo", choices=ALGORITHMS, default="ppo", help="whose network")
     parser.add_argument("--map", choices=MAP_MODES, default="gpis", dest="map_mode")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--out", type=Path, default=Path("runs/imitation"))
@@ -80,6 +82,7 @@ def main(argv: list[str] | None = None) -> None:
         progress=not args.quiet,
         demonstrations_file=args.demos,
         label=args.label,
+        algo=args.algo,
     )
     print(run_dir)
 

@@ -13,7 +13,8 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from agents.rllib.training import parse_setting, train_rllib
+from agents.command_args import parse_setting
+from agents.rllib.training import train_rllib
 from tactile_search.envs.config import MAP_MODES
 
 

@@ -4,7 +4,10 @@
     python -m agents.train --algo recurrent_ppo --map none --timesteps 200000
     python -m agents.train --algo ppo --map gpis --seed 0 --out runs --resume
 
-A thin CLI over ``agents.sb3.training.train``, which documents the run it writes.
+A thin CLI over ``agents.imitation.clone_stage.train_with_clone_stage``: a PPO recipe's clone
+stage (the GPIS probe planner cloned into the network, ``--imitation`` overrides its settings,
+``--from-scratch`` skips it), then ``agents.sb3.training.train``, which documents the run
+it writes.
 """
 
 from __future__ import annotations
@@ -13,12 +16,13 @@ import argparse
 import sys
 from pathlib import Path
 
+from agents.command_args import parse_setting
+from agents.imitation.clone_stage import train_with_clone_stage
 from agents.sb3.recipes import ALGORITHMS
 from agents.sb3.training import (
     DEFAULT_CHECKPOINT_EVERY,
     DEFAULT_KEEP_CHECKPOINTS,
     INTERRUPTED_EXIT_STATUS,
-    train,
 )
 from tactile_search.envs.config import MAP_MODES
 
@@ -61,9 +65,22 @@ def main(argv: list[str] | None = None) -> None:
         type=Path,
         help="warm start: a run directory (or model.zip) whose policy weights this run starts from",
     )
+    parser.add_argument(
+        "--imitation",
+        nargs="+",
+        type=parse_setting,
+        metavar="KEY=VALUE",
+        help="override keys of the recipe's imitation section (demo_episodes=200 "
+        "dagger_rounds=1 cloning={epochs: 10})",
+    )
+    parser.add_argument(
+        "--from-scratch",
+        action="store_true",
+        help="PPO from fresh weights: skip the recipe's imitation section (the clone stage)",
+    )
     args = parser.parse_args(argv)
     try:
-        run_dir = train(
+        run_dir = train_with_clone_stage(
             args.algo,
             args.map_mode,
             out=args.out,
@@ -79,6 +96,8 @@ def main(argv: list[str] | None = None) -> None:
             keep_checkpoints=args.keep_checkpoints,
             resume=args.resume,
             init_from=args.init_from,
+            imitation=dict(args.imitation) if args.imitation else None,
+            from_scratch=args.from_scratch,
             label=args.label,
         )
     except KeyboardInterrupt:

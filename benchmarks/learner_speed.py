@@ -27,8 +27,8 @@ it).
 Variants are named ``NAME`` or ``NAME:key=value,key=value`` (recipe keys, values in YAML),
 e.g. ``space_to_depth:n_epochs=5``. Run from the repo root::
 
-    python -m benchmarks.learner_speed                      # recipe vs space_to_depth
-    python -m benchmarks.learner_speed --variants recipe space_to_depth nature_cnn \\
+    python -m benchmarks.learner_speed       # recipe, impala_factorised, space_to_depth
+    python -m benchmarks.learner_speed --variants recipe impala_factorised nature_cnn \\
         spatial_softmax mlp_no_map --timesteps 2048 --rounds 3 --torch-threads 1 --bf16
 
 Like ``agents/train.py``, it sets ``OMP_WAIT_POLICY=PASSIVE`` (unless set) before torch
@@ -61,11 +61,15 @@ ABLATIONS = Path("docs/results/ablations_speed")
 #: name -> (the map mode, the recipe file (None: agents/hyperparams/ppo.yml), the
 #: features extractor put in its policy_kwargs: "keep" the recipe's, None for SB3's default
 #: CombinedExtractor, or a dotted class path with default kwargs).
+#: The encoder variants compare against ``impala_factorised`` (the recipe before issue 24's
+#: spatial probe head: the IMPALA encoder and SB3's factorised head).
+FACTORISED = ABLATIONS / "impala_factorised.yml"
 VARIANTS: dict[str, tuple[str, Path | None, str | None]] = {
     "recipe": ("gpis", None, "keep"),
+    "impala_factorised": ("gpis", FACTORISED, "keep"),
     "space_to_depth": ("gpis", ABLATIONS / "space_to_depth.yml", "keep"),
-    "nature_cnn": ("gpis", None, None),
-    "spatial_softmax": ("gpis", None, "agents.sb3.encoders.SpatialSoftmaxMapExtractor"),
+    "nature_cnn": ("gpis", FACTORISED, None),
+    "spatial_softmax": ("gpis", FACTORISED, "agents.sb3.encoders.SpatialSoftmaxMapExtractor"),
     "mlp_no_map": ("none", None, "keep"),
 }
 REFERENCE_VARIANT = "recipe"
@@ -290,7 +294,11 @@ def main(argv: list[str] | None = None) -> None:
         "--variants",
         nargs="+",
         type=variant_spec,
-        default=[variant_spec("recipe"), variant_spec("space_to_depth")],
+        default=[
+            variant_spec("recipe"),
+            variant_spec("impala_factorised"),
+            variant_spec("space_to_depth"),
+        ],
         help=f"NAME or NAME:key=value,... with NAME in {sorted(VARIANTS)}",
     )
     parser.add_argument("--timesteps", type=positive_int, default=2048, help="probes per round")

@@ -61,6 +61,8 @@ def train_command(args: argparse.Namespace, seed: int, threads: int, out: Path) 
         "--out",
         str(out),
         "--no-progress",
+        # PPO's training speed: the recipe's clone stage is not measured.
+        "--from-scratch",
     ]
     if args.hyperparams is not None:
         command += ["--hyperparams", str(args.hyperparams)]

@@ -25,6 +25,17 @@ from tactile_search.seed_ranges import held_out_seeds
 REPO = Path(__file__).resolve().parents[1]
 
 
+# The PPO recipe's clone stage at a size of seconds (``agents.train --imitation``).
+SMALL_IMITATION_ARGS = (
+    "--imitation",
+    "demo_episodes=12",
+    "dagger_rounds=1",
+    "dagger_episodes=4",
+    "dagger_epochs=1",
+    "cloning={epochs: 2}",
+)
+
+
 def run_module(*args: str) -> subprocess.CompletedProcess:
     result = subprocess.run(
         [sys.executable, "-m", *args], cwd=REPO, capture_output=True, text=True, timeout=600
@@ -53,6 +64,7 @@ def trained_runs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
             "--out",
             str(out),
             "--no-progress",
+            *SMALL_IMITATION_ARGS,
         )
         runs[algo] = out / f"{algo}_{map_mode}_seed3"
     return runs
@@ -191,6 +203,7 @@ def test_a_wall_clock_limit_stops_training_early_and_is_recorded(tmp_path: Path)
         n_envs=2,
         max_minutes=0.001,
         progress_bar=False,
+        from_scratch=True,
     )
     config = yaml.safe_load((run_dir / "config.yml").read_text())
     assert (run_dir / "model.zip").is_file()
@@ -210,7 +223,7 @@ def test_evaluation_builds_the_env_from_the_recipe_without_its_reward_terms(tmp_
     from agents.evaluation.evaluation import evaluate
     from tests.recipes import train_with_recipe
 
-    env_kwargs = {"map": "gpis", "grid_shape": [36, 72], "jar_count": 3}
+    env_kwargs = {"map": "gpis", "action_mode": "probe", "grid_shape": [36, 72], "jar_count": 3}
     rewards = {"reward_approach": 10.0, "reward_tip": 5.0}
     run_dir = train_with_recipe(tmp_path, "gpis", env_kwargs={**env_kwargs, **rewards})
     # The grid and the jars as trained (the model's spaces need the grid), the default reward.
@@ -244,7 +257,7 @@ def test_the_results_page_takes_machines_code_and_seeds_from_the_run_configs(tmp
     assert "96 CPU cores (a test CPU), no GPU" in page
     assert "`0123456789ab`, `0123456789ab` (with uncommitted changes)" in page
     assert "[4,294,967,296, 9,223,372,036,854,775,808)" in page
-    assert "test layouts 2000000..2000199" in page
+    assert "test layouts 2000000..2000499" in page
     assert "2-core" not in page  # nothing about the machine is a fixed string
 
 
@@ -393,7 +406,7 @@ def test_the_probe_trace_refuses_a_run_of_the_wrist_mode(tmp_path: Path):
     (tmp_path / "wrist.yml").write_text(yaml.safe_dump(recipe))
     run_module(
         "agents.train",
-        *("--map", "none", "--timesteps", "64", "--n-envs", "2", "--no-progress"),
+        *("--map", "none", "--timesteps", "64", "--n-envs", "2", "--no-progress", "--from-scratch"),
         *("--hyperparams", str(tmp_path / "wrist.yml"), "--out", str(tmp_path)),
     )
     with pytest.raises(ValueError, match="trained in the 'wrist' action mode"):

@@ -318,7 +318,9 @@ def test_a_recipe_names_its_encoder_by_dotted_path(tmp_path: Path) -> None:
         "features_extractor_class": "agents.sb3.encoders.ImpalaMapExtractor",
         "features_extractor_kwargs": {"channels": [8, 16, 16], "map_features": 64},
     }
-    run_dir = train_with_recipe(tmp_path, "gpis", policy_kwargs=policy_kwargs)
+    run_dir = train_with_recipe(
+        tmp_path, "gpis", policy="MultiInputPolicy", policy_kwargs=policy_kwargs
+    )
     agent = LearnedAgent(run_dir)
     assert isinstance(agent.model.policy.features_extractor, ImpalaMapExtractor)
     with pytest.raises(ValueError, match="features_extractor_class"):

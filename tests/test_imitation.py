@@ -93,6 +93,7 @@ def map_rule_demonstrations(layouts: int) -> Demonstrations:
         np.arange(layouts, dtype=np.uint64),
         np.zeros(layouts, bool),
         np.zeros(layouts, np.int64),
+        np.zeros(layouts, np.int64),  # one probe per episode
     )
 
 
@@ -181,7 +182,7 @@ def test_demonstrations_need_the_probe_mode_and_consistent_rows(tmp_path: Path) 
         Demonstrations(
             demonstrations.observations,
             demonstrations.actions[:1],
-            *(np.zeros(1) for _ in range(4)),
+            *(np.zeros(1) for _ in range(5)),
         )
     with pytest.raises(ValueError, match="not a file of demonstrations"):
         np.savez(tmp_path / "other.npz", actions=demonstrations.actions)
@@ -321,7 +322,7 @@ def test_the_mirror_image_of_a_state_gets_the_mirror_image_of_the_teachers_probe
         demonstration = Demonstrations(
             {key: value[None] for key, value in observation.items()},
             probe[None],
-            *(np.zeros(1) for _ in range(4)),
+            *(np.zeros(1) for _ in range(5)),
         )
         image = mirrored(demonstration, geometry)
         seen = {key: value[0] for key, value in image.observations.items()}
@@ -349,3 +350,173 @@ def test_mirroring_twice_gives_the_demonstrations_back_and_needs_a_symmetric_sce
     lopsided = CupboardSearchEnv(**PROBE_GPIS, camera_position=[0.05, -0.25, 0.075])
     with pytest.raises(ValueError, match="the camera's x"):
         mirrored(demonstrations, Geometry.from_env(lopsided))
+
+
+# A clone stage of a few seconds: a dozen teacher episodes, one small DAgger round.
+SMALL_IMITATION = {
+    "demo_episodes": 12,
+    "dagger_rounds": 1,
+    "dagger_episodes": 4,
+    "dagger_epochs": 1,
+    "mirror": True,
+    "cloning": {"epochs": 2},
+}
+
+
+def test_a_recipe_with_an_imitation_section_fine_tunes_the_clone_it_keeps(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``train`` with a recipe's ``imitation`` section clones the planner into
+    ``<run>/imitation/`` and warm-starts PPO from that clone; the recorded section is the
+    one run (overrides applied); a run started again reuses the clone; another section
+    clones afresh."""
+    import yaml
+
+    from agents.run_dir import model_digest
+    from tests.recipes import train_with_recipe
+
+    section = {**SMALL_IMITATION, "demo_episodes": 40}
+    small = {"demo_episodes": 12}
+    run_dir = train_with_recipe(
+        tmp_path, "none", train_kwargs={"imitation": small}, imitation=section
+    )
+    clone_dir = run_dir / "imitation"
+    config = yaml.safe_load((run_dir / "config.yml").read_text())
+    assert config["hyperparams"]["imitation"] == {**section, **small}
+    assert config["init_from"]["model_digest"] == model_digest(clone_dir / "model.zip").hex()
+    clone = yaml.safe_load((clone_dir / "config.yml").read_text())
+    assert clone["imitation"]["demo_episodes"] == 12 and clone["imitation"]["mirror"] is True
+    assert [r["round"] for r in clone["imitation"]["rounds"]] == [0, 1]
+    assert (clone_dir / "teacher_demonstrations.npz").is_file()
+    digest = model_digest(clone_dir / "model.zip")
+    capsys.readouterr()
+
+    again = train_with_recipe(
+        tmp_path, "none", train_kwargs={"imitation": small}, imitation=section
+    )
+    assert "reusing the clone" in capsys.readouterr().out
+    assert model_digest(again / "imitation" / "model.zip") == digest
+
+    train_with_recipe(tmp_path, "none", imitation={**section, "demo_episodes": 10})
+    assert "imitating the teacher" in capsys.readouterr().out
+    clone = yaml.safe_load((clone_dir / "config.yml").read_text())
+    assert clone["imitation"]["demo_episodes"] == 10
+
+
+def test_a_warm_start_skips_the_imitation_section_and_bad_sections_are_refused(
+    tmp_path: Path,
+) -> None:
+    import yaml
+
+    from agents.imitation.clone_stage import with_overrides
+    from agents.sb3.training import train
+    from tests.recipes import train_with_recipe
+
+    plain = train_with_recipe(tmp_path / "plain", "none")
+    warm = train_with_recipe(
+        tmp_path / "warm", "none", train_kwargs={"init_from": plain}, imitation=SMALL_IMITATION
+    )
+    assert "imitation" not in yaml.safe_load((warm / "config.yml").read_text())["hyperparams"]
+    assert not (warm / "imitation").exists()
+    with pytest.raises(ValueError, match=r"no setting \['demos'\]"):
+        train_with_recipe(tmp_path / "bad", "none", imitation={"demos": 10})
+    with pytest.raises(ValueError, match=r"imitation.cloning has no setting \['seed'\]"):
+        train_with_recipe(tmp_path / "bad", "none", imitation={"cloning": {"seed": 1}})
+    with pytest.raises(TypeError, match="mapping"):
+        train_with_recipe(tmp_path / "bad", "none", imitation=[1, 2])
+    with pytest.raises(ValueError, match="demo_episodes"):
+        train_with_recipe(tmp_path / "bad", "none", imitation={"demo_episodes": 1})
+    with pytest.raises(ValueError, match="no imitation section"):
+        train(
+            "ppo",
+            "none",
+            out=tmp_path,
+            hyperparams=tmp_path / "plain" / "ppo.yml",
+            imitation={"mirror": True},
+        )
+    # PPO alone on a recipe with a clone stage: only from a model, or from scratch by choice.
+    with pytest.raises(ValueError, match="fine-tunes a clone of the planner"):
+        train("ppo", "none", out=tmp_path / "alone")
+    scratch = train(
+        "ppo",
+        "none",
+        out=tmp_path / "alone",
+        timesteps=64,
+        n_envs=2,
+        from_scratch=True,
+        progress_bar=False,
+        torch_threads=1,
+    )
+    assert "imitation" not in yaml.safe_load((scratch / "config.yml").read_text())["hyperparams"]
+    with pytest.raises(TypeError, match="from_scratch"):
+        train("ppo", "none", out=tmp_path / "alone", from_scratch="yes")
+    assert with_overrides({"cloning": {"epochs": 3}}, {"cloning": {"batch_size": 8}}) == {
+        "cloning": {"epochs": 3, "batch_size": 8}
+    }
+
+
+def test_a_recurrent_student_is_cloned_on_whole_episodes_and_learns_what_needs_memory() -> None:
+    """Two-probe episodes whose second probe depends only on the first observation (the
+    second observations are all alike): no policy without memory can agree on more than
+    half of the second probes; the recurrent recipe's network, cloned on whole episodes
+    (its memory emptied at each episode's start), agrees on held-out episodes."""
+    import gymnasium as gym
+
+    from agents.sb3.recipes import algorithm_class, load_hyperparams, new_model
+    from agents.sb3.training_env import make_training_env
+
+    recipe = load_hyperparams("recurrent_ppo", "none")
+    env = make_training_env(recipe["env_kwargs"], 1, 0, threads=1)
+    try:
+        model = new_model(algorithm_class("recurrent_ppo"), recipe, env, seed=0)
+    finally:
+        env.close()
+    proprio_space = model.observation_space["proprio"]
+    assert isinstance(proprio_space, gym.spaces.Box)
+    episodes = 160
+    rng = np.random.default_rng(0)
+    side = rng.integers(0, 2, size=episodes)
+    proprio = np.zeros((episodes, 2, proprio_space.shape[0]), np.float32)
+    proprio[:, 0, 0] = np.where(side == 1, 0.8, -0.8)  # the cue, seen at the first probe only
+    actions = np.zeros((episodes, 2, 3), np.int64)
+    actions[:, 0] = [14, 0, 4]  # the same first probe everywhere
+    actions[:, 1, 0] = np.where(side == 1, 25, 3)  # then the cue's side
+    demonstrations = Demonstrations(
+        {"proprio": proprio.reshape(-1, proprio_space.shape[0])},
+        actions.reshape(-1, 3),
+        np.zeros(2 * episodes, np.float32),
+        np.repeat(np.arange(episodes, dtype=np.uint64), 2),
+        np.zeros(2 * episodes, bool),
+        np.zeros(2 * episodes, np.int64),
+        np.tile(np.arange(2, dtype=np.int64), episodes),
+    )
+    assert [s.stop - s.start for s in demonstrations.episode_slices()] == [2] * episodes
+    train, held_out = demonstrations.split_by_layout(0.25, seed=0)
+    clone(model.policy, train, CloningSettings(epochs=30, batch_size=64, learning_rate=1e-3))
+    second = held_out.rows(held_out.episode_steps == 1)
+    assert agreement(model.policy, held_out)["lane"] >= 0.95
+    # The second probes alone, each as a one-probe episode: no cue, a coin toss at best.
+    cut = Demonstrations(
+        second.observations,
+        second.actions,
+        second.returns,
+        second.layout_seeds,
+        second.episode_success,
+        second.episode_tips,
+        np.zeros(len(second), np.int64),
+    )
+    assert agreement(model.policy, cut)["lane"] <= 0.75
+
+
+def test_every_learned_agent_gets_the_same_clone_stage_and_fine_tuning_budget() -> None:
+    """Fair controls (issue 24): every recipe clones the same teacher with the same settings
+    and fine-tunes for the same number of probes with the same reward."""
+    from agents.sb3.recipes import load_hyperparams
+
+    recipes = [load_hyperparams("ppo", map_mode) for map_mode in ("gpis", "occupancy", "none")] + [
+        load_hyperparams("recurrent_ppo", "none")
+    ]
+    for key in ("imitation", "n_timesteps", "learning_rate", "ent_coef", "n_envs", "n_steps"):
+        assert len({repr(recipe[key]) for recipe in recipes}) == 1, key
+    rewards = [{k: v for k, v in recipe["env_kwargs"].items() if k != "map"} for recipe in recipes]
+    assert all(reward == rewards[0] for reward in rewards)

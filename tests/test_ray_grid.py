@@ -44,11 +44,42 @@ def cluster():
         local.shutdown()
 
 
-def tiny_trials(runs: Path, maps: tuple[str, ...] = ("none", "gpis")) -> list[TrainingTrial]:
+# The PPO recipe's clone stage at a size of seconds.
+SMALL_IMITATION = {
+    "demo_episodes": 12,
+    "dagger_rounds": 1,
+    "dagger_episodes": 4,
+    "dagger_epochs": 1,
+    "cloning": {"epochs": 2},
+}
+
+
+def tiny_trials(
+    runs: Path, maps: tuple[str, ...] = ("none", "gpis"), clone_first: bool = False
+) -> list[TrainingTrial]:
+    """A trial per map of a few hundred PPO steps; ``clone_first``: after a small clone
+    stage, else PPO from scratch."""
     return [
-        TrainingTrial("ppo", map_mode, 0, str(runs.resolve()), TIMESTEPS, 1, n_envs=N_ENVS)
+        TrainingTrial(
+            "ppo",
+            map_mode,
+            0,
+            str(runs.resolve()),
+            TIMESTEPS,
+            1,
+            n_envs=N_ENVS,
+            imitation=SMALL_IMITATION if clone_first else None,
+            from_scratch=not clone_first,
+        )
         for map_mode in maps
     ]
+
+
+def ppo_alone(runs: Path) -> TrainingTrial:
+    """A trial of PPO from scratch with no map for a thousand steps (a few rollouts)."""
+    return TrainingTrial(
+        "ppo", "none", 0, str(runs.resolve()), 1024, 1, n_envs=N_ENVS, from_scratch=True
+    )
 
 
 def rows(path: Path) -> list[dict[str, str]]:
@@ -62,8 +93,8 @@ def test_cluster_has_two_nodes(cluster) -> None:
 
 
 def test_grid_on_ray_equals_the_grid_run_one_trial_after_another(cluster, tmp_path) -> None:
-    on_ray = ray_scheduler.train_on_ray(tiny_trials(tmp_path / "ray"))
-    here = [train_trial(trial) for trial in tiny_trials(tmp_path / "local")]
+    on_ray = ray_scheduler.train_on_ray(tiny_trials(tmp_path / "ray", clone_first=True))
+    here = [train_trial(trial) for trial in tiny_trials(tmp_path / "local", clone_first=True)]
     assert [d.name for d in on_ray] == [d.name for d in here]
     for ray_run, local_run in zip(on_ray, here, strict=True):
         assert model_digest(ray_run / "model.zip") == model_digest(local_run / "model.zip")
@@ -146,6 +177,7 @@ def test_the_pipeline_gives_the_same_table_on_ray_and_locally(cluster, tmp_path)
             runs=tmp_path / scheduler / "runs",
             results=tmp_path / scheduler / "results",
             cpus_per_trial=1,
+            imitation=SMALL_IMITATION,
         )
         run_dirs, tables[scheduler] = run_budget(budget, [0, 1], scheduler, progress_bar=False)
         assert [d.name for d in run_dirs] == ["ppo_none_seed0", "ppo_none_seed1"]
@@ -176,9 +208,7 @@ def test_a_killed_worker_costs_a_retry_and_the_grid_finishes_as_undisturbed(
     import threading
     import time
 
-    (trial,) = [
-        TrainingTrial("ppo", "none", 0, str((tmp_path / "ray").resolve()), 1024, 1, n_envs=N_ENVS)
-    ]
+    trial = ppo_alone(tmp_path / "ray")
     outcome: dict[str, object] = {}
 
     def grid() -> None:
@@ -205,7 +235,5 @@ def test_a_killed_worker_costs_a_retry_and_the_grid_finishes_as_undisturbed(
     assert "error" not in outcome, outcome.get("error")  # Ray retried the task ...
     assert outcome["runs"] == [trial.run_dir]  # ... and the grid finished
     # The retried trial gives the model of an undisturbed run of the same trial.
-    undisturbed = train_trial(
-        TrainingTrial("ppo", "none", 0, str((tmp_path / "here").resolve()), 1024, 1, n_envs=N_ENVS)
-    )
+    undisturbed = train_trial(ppo_alone(tmp_path / "here"))
     assert model_digest(trial.run_dir / "model.zip") == model_digest(undisturbed / "model.zip")

@@ -66,6 +66,8 @@ def train_command(out: Path, *extra: str) -> list[str]:
         "--out",
         str(out),
         "--no-progress",
+        # PPO alone (the recipe's clone stage is not what resuming is about).
+        "--from-scratch",
         # One torch thread: with torch loaded before agents.train set OMP_WAIT_POLICY (the
         # in-process resume below, under pytest), two threads spin against each other.
         "--torch-threads",
@@ -216,7 +218,7 @@ def test_resuming_needs_a_checkpoint_and_a_fresh_start_keeps_one(interrupted_run
         train("ppo", "none", out=tmp_path, seed=SEED, timesteps=TOTAL + 1, resume=True)
     shutil.copytree(interrupted_run["run_dir"] / "checkpoints", run_dir / "checkpoints")
     with pytest.raises(ValueError, match="unfinished run with a checkpoint"):
-        train("ppo", "none", out=tmp_path, seed=SEED)
+        train("ppo", "none", out=tmp_path, seed=SEED, from_scratch=True)
     with pytest.raises(ValueError, match="checkpoint_every must be at least 1"):
         train("ppo", "none", out=tmp_path, seed=SEED, checkpoint_every=0)
 
@@ -305,7 +307,14 @@ def test_an_example_gif_left_by_other_code_is_drawn_again(tmp_path):
 def small_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("small")
     return train(
-        "ppo", "none", out=out, timesteps=256, n_envs=2, torch_threads=1, progress_bar=False
+        "ppo",
+        "none",
+        out=out,
+        timesteps=256,
+        n_envs=2,
+        torch_threads=1,
+        progress_bar=False,
+        from_scratch=True,
     )
 
 

@@ -24,7 +24,9 @@ def test_a_variant_names_a_recipe_and_its_overrides() -> None:
 
 
 def test_each_variant_trains_its_own_encoder_on_the_recipes_settings() -> None:
-    recipe = learner_speed.variant_recipe("recipe", {})
+    spatial = learner_speed.variant_recipe("recipe", {})
+    assert spatial["policy"].endswith("SpatialProbePolicy")
+    recipe = learner_speed.variant_recipe("impala_factorised", {})
     faster = learner_speed.variant_recipe("space_to_depth", {})
     nature = learner_speed.variant_recipe("nature_cnn", {"n_epochs": 4})
     no_map = learner_speed.variant_recipe("mlp_no_map", {})

@@ -10,7 +10,7 @@ Two budgets::
 published model (``docs/results/models/``, when there is one), and evaluates them on 50
 validation layouts; ``full`` trains every learned agent (PPO with each map mode and the
 recurrent no-map agent) with training seeds 0, 1 and 2 at its recipe's ``n_timesteps``,
-into ``docs/results/models/`` (the published models), and evaluates on 200 test layouts.
+into ``docs/results/models/`` (the published models), and evaluates on 500 test layouts.
 
 The grid (agents x training seeds, then the evaluation) runs on Ray when it is installed
 (the ``scale`` extra; ``--scheduler ray``): training trials and the evaluation run as Ray
@@ -65,6 +65,7 @@ def trials(budget: Budget, seeds: list[int]) -> list[TrainingTrial]:
             cpus=budget.cpus_per_trial,
             code=code,
             init_from=warm_start_source(budget, algo, map_mode, seed),
+            imitation=budget.imitation if "imitation" in load_hyperparams(algo, map_mode) else None,
         )
         for algo, map_mode in budget.agents
         for seed in seeds

@@ -5,9 +5,10 @@ map mode and training seed) and an evaluation shard (one agent on a slice of the
 (``agents.grid.ray_scheduler``: Ray tasks, on this machine or a cluster). What a unit
 produces depends only on its own fields, never on where or in what order it ran:
 
-- a trial's model is fixed by its algorithm's recipe, map mode, seed, timesteps and
-  ``cpus`` (its torch threads: torch's CPU kernels may sum in another order with another
-  thread count; the environment batch's threads do not change its results);
+- a trial's model is fixed by its algorithm's recipe (with its imitation section, the
+  clone stage), map mode, seed, timesteps and ``cpus`` (its torch threads: torch's CPU
+  kernels may sum in another order with another thread count; the environment batch's
+  threads do not change its results);
 - a shard's rows are fixed by the agent (its model's contents) and the layout seeds: every
   episode starts from its layout seed, and a scripted agent with a random generator is
   seeded per episode (``agents.evaluation.agent_specs.SeededPerEpisode``).
@@ -20,8 +21,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from agents.imitation.clone_stage import train_with_clone_stage
 from agents.run_dir import checkpoints, run_name
-from agents.sb3.training import train
 
 # The files of a run directory an evaluation needs (``agents.sb3.learned.LearnedAgent``).
 EVALUATED_RUN_FILES = ("model.zip", "config.yml")
@@ -35,7 +36,9 @@ class TrainingTrial:
     may run in another working directory, writes to the same place). ``timesteps``: ``None`` for
     the recipe's ``n_timesteps``. ``cpus``: the CPUs the trial declares, used as its torch
     threads and its environment batch's threads. ``n_envs``: ``None`` for the recipe's.
-    ``init_from``: a run directory or model file to warm-start from (``train``'s), or None."""
+    ``init_from``: a run directory or model file to warm-start from (``train``'s), or None.
+    ``imitation``: overrides of the recipe's imitation section (the clone stage,
+    ``train``'s); ``from_scratch``: skip that stage (``train``'s)."""
 
     algo: str
     map_mode: str
@@ -48,6 +51,8 @@ class TrainingTrial:
     # (a Ray worker's copy of ``agents`` is not a git checkout); None: the trainer's own.
     code: dict[str, Any] | None = field(default=None, hash=False)
     init_from: str | None = None
+    imitation: dict[str, Any] | None = field(default=None, hash=False)
+    from_scratch: bool = False
 
     def __post_init__(self) -> None:
         if not Path(self.runs).is_absolute():
@@ -78,7 +83,7 @@ def train_trial(trial: TrainingTrial, progress_bar: bool = False) -> Path:
         f"seed {trial.seed}",
         flush=True,
     )
-    return train(
+    return train_with_clone_stage(
         trial.algo,
         trial.map_mode,
         out=Path(trial.runs),
@@ -91,6 +96,8 @@ def train_trial(trial: TrainingTrial, progress_bar: bool = False) -> Path:
         resume=resume,
         code=trial.code,
         init_from=None if resume or trial.init_from is None else Path(trial.init_from),
+        imitation=trial.imitation,
+        from_scratch=trial.from_scratch,
     )
 
 

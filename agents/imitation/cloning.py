@@ -44,8 +44,10 @@ class CloningSettings:
 
 
 def clone(policy: Any, demonstrations: Demonstrations, settings: CloningSettings) -> list[dict]:
-    """Trains ``policy`` (an SB3 ``ActorCriticPolicy``) on ``demonstrations``; per epoch,
-    the mean action negative log-likelihood, value loss and entropy."""
+    """Trains ``policy`` (an SB3 ``ActorCriticPolicy``, or sb3-contrib's recurrent one) on
+    ``demonstrations``; per epoch, the mean action negative log-likelihood, value loss and
+    entropy. A recurrent policy learns from whole episodes: each minibatch is episodes in
+    their order, its memory starting empty at each episode's first probe."""
     import torch
 
     if len(demonstrations) == 0:
@@ -55,14 +57,11 @@ def clone(policy: Any, demonstrations: Demonstrations, settings: CloningSettings
     policy.set_training_mode(True)
     history = []
     for _ in range(settings.epochs):
-        order = rng.permutation(len(demonstrations))
         totals = np.zeros(3)
-        for start in range(0, len(order), settings.batch_size):
-            batch = demonstrations.rows(order[start : start + settings.batch_size])
-            observations, _ = policy.obs_to_tensor(batch.observations)
-            actions = torch.as_tensor(batch.actions, device=policy.device)
+        for index in _minibatches(policy, demonstrations, settings.batch_size, rng):
+            batch = demonstrations.rows(index)
             returns = torch.as_tensor(batch.returns, device=policy.device)
-            values, log_prob, entropy = policy.evaluate_actions(observations, actions)
+            values, log_prob, entropy = _evaluate_actions(policy, batch)
             nll = -log_prob.mean()
             value_loss = torch.nn.functional.mse_loss(values.flatten(), returns)
             mean_entropy = entropy.mean()
@@ -78,6 +77,84 @@ def clone(policy: Any, demonstrations: Demonstrations, settings: CloningSettings
     return history
 
 
+def is_recurrent(policy: Any) -> bool:
+    """Whether ``policy`` carries a memory (sb3-contrib's ``RecurrentActorCriticPolicy``)."""
+    return hasattr(policy, "lstm_actor")
+
+
+def _minibatches(
+    policy: Any, demonstrations: Demonstrations, batch_size: int, rng: np.random.Generator
+) -> list[np.ndarray]:
+    """One epoch's minibatches of row indices, shuffled with ``rng``: rows for a policy
+    without memory; for a recurrent one, whole episodes (in their order) up to at least
+    ``batch_size`` rows each."""
+    if not is_recurrent(policy):
+        order = rng.permutation(len(demonstrations))
+        return [order[start : start + batch_size] for start in range(0, len(order), batch_size)]
+    episodes = demonstrations.episode_slices()
+    batches, current = [], []
+    for i in rng.permutation(len(episodes)):
+        current.append(np.arange(episodes[i].start, episodes[i].stop))
+        if sum(map(len, current)) >= batch_size:
+            batches.append(np.concatenate(current))
+            current = []
+    if current:
+        batches.append(np.concatenate(current))
+    return batches
+
+
+def _in_order(policy: Any, demonstrations: Demonstrations, batch_size: int) -> list[np.ndarray]:
+    """Every row once, in order, in batches of about ``batch_size`` that cut no episode of a
+    recurrent policy."""
+    n = len(demonstrations)
+    if not is_recurrent(policy):
+        return [np.arange(start, min(start + batch_size, n)) for start in range(0, n, batch_size)]
+    batches, start = [], 0
+    for episode in demonstrations.episode_slices():
+        if episode.stop - start >= batch_size:
+            batches.append(np.arange(start, episode.stop))
+            start = episode.stop
+    if start < n:
+        batches.append(np.arange(start, n))
+    return batches
+
+
+def _memory(policy: Any, batch: Demonstrations) -> tuple[Any, Any]:
+    """A recurrent policy's empty memory for a batch run as one sequence, and where its
+    episodes start (the memory is emptied there)."""
+    import torch
+    from sb3_contrib.common.recurrent.type_aliases import RNNStates
+
+    def empty() -> tuple[Any, Any]:
+        shape = policy.lstm_hidden_state_shape  # (layers, 1 sequence, hidden)
+        return torch.zeros(shape, device=policy.device), torch.zeros(shape, device=policy.device)
+
+    starts = torch.as_tensor(batch.episode_steps == 0, dtype=torch.float32, device=policy.device)
+    return RNNStates(empty(), empty()), starts
+
+
+def _evaluate_actions(policy: Any, batch: Demonstrations) -> tuple[Any, Any, Any]:
+    """The values, log-likelihoods of the teacher's probes and entropies over ``batch``."""
+    import torch
+
+    observations, _ = policy.obs_to_tensor(batch.observations)
+    actions = torch.as_tensor(batch.actions, device=policy.device)
+    if not is_recurrent(policy):
+        return policy.evaluate_actions(observations, actions)
+    states, starts = _memory(policy, batch)
+    return policy.evaluate_actions(observations, actions, states, starts)
+
+
+def _distribution(policy: Any, batch: Demonstrations) -> Any:
+    """The policy's probe distribution over ``batch`` (whole episodes for a recurrent one)."""
+    observations, _ = policy.obs_to_tensor(batch.observations)
+    if not is_recurrent(policy):
+        return policy.get_distribution(observations)
+    states, starts = _memory(policy, batch)
+    distribution, _ = policy.get_distribution(observations, states.pi, starts)
+    return distribution
+
+
 def agreement(policy: Any, demonstrations: Demonstrations, batch_size: int = 512) -> dict:
     """How often the policy's mode is the teacher's probe on ``demonstrations``: the whole
     probe (``probe``) and each index (``lane``, ``depth``, ``sweep``), as fractions."""
@@ -88,12 +165,9 @@ def agreement(policy: Any, demonstrations: Demonstrations, batch_size: int = 512
     policy.set_training_mode(False)
     matches = []
     with torch.no_grad():
-        for start in range(0, len(demonstrations), batch_size):
-            batch = demonstrations.rows(
-                np.arange(start, min(start + batch_size, len(demonstrations)))
-            )
-            observations, _ = policy.obs_to_tensor(batch.observations)
-            mode = policy.get_distribution(observations).mode().cpu().numpy()
+        for index in _in_order(policy, demonstrations, batch_size):
+            batch = demonstrations.rows(index)
+            mode = _distribution(policy, batch).mode().cpu().numpy()
             matches.append(mode.reshape(batch.actions.shape) == batch.actions)
     equal = np.concatenate(matches)
     fractions = {

@@ -24,7 +24,14 @@ from agents.scripted.gpis_probe_planner import GpisProbePlanner
 from tactile_search import CupboardSearchEnv
 
 #: The fields with one row per probe beside the observations, in the constructor's order.
-PER_ROW = ("actions", "returns", "layout_seeds", "episode_success", "episode_tips")
+PER_ROW = (
+    "actions",
+    "returns",
+    "layout_seeds",
+    "episode_success",
+    "episode_tips",
+    "episode_steps",
+)
 
 #: A student's policy for one episode: observation -> probe.
 Student = Callable[[dict], np.ndarray]
@@ -35,8 +42,10 @@ class Demonstrations:
     """Labelled states, one row per probe: ``observations`` (key -> ``(n, ...)`` array, as the
     student's env returns them), ``actions`` (``(n, 3)`` int64, the teacher's probe),
     ``returns`` (``(n,)`` float32, the discounted return from the state on, under whoever
-    acted), ``layout_seeds`` (``(n,)``, the episode's layout) and the episode's outcome,
-    ``episode_success`` and ``episode_tips`` (``(n,)``, the same on each of its rows)."""
+    acted), ``layout_seeds`` (``(n,)``, the episode's layout), the episode's outcome,
+    ``episode_success`` and ``episode_tips`` (``(n,)``, the same on each of its rows), and
+    ``episode_steps`` (``(n,)`` int64, the probe's index in its episode: an episode's rows
+    are consecutive, from 0, so a recurrent student is cloned on whole episodes)."""
 
     observations: dict[str, np.ndarray]
     actions: np.ndarray
@@ -44,6 +53,7 @@ class Demonstrations:
     layout_seeds: np.ndarray
     episode_success: np.ndarray
     episode_tips: np.ndarray
+    episode_steps: np.ndarray
 
     def __post_init__(self) -> None:
         n = len(self.actions)
@@ -61,6 +71,14 @@ class Demonstrations:
 
     def __len__(self) -> int:
         return len(self.actions)
+
+    def episode_slices(self) -> list[slice]:
+        """Each episode's rows, in order (an episode starts where ``episode_steps`` is 0)."""
+        starts = np.flatnonzero(self.episode_steps == 0)
+        if len(self) and (len(starts) == 0 or starts[0] != 0):
+            raise ValueError("the first row must start an episode (episode_steps 0)")
+        ends = [*starts[1:], len(self)]
+        return [slice(int(a), int(b)) for a, b in zip(starts, ends, strict=True)]
 
     @property
     def episodes(self) -> int:
@@ -114,12 +132,25 @@ class Demonstrations:
     def load(path: Path) -> Demonstrations:
         with np.load(path) as data:
             observations = observations_in(data)
-            missing = [name for name in PER_ROW if name not in data.files]
+            fields = {name: data[name] for name in PER_ROW if name in data.files}
+            if "episode_steps" not in fields and "layout_seeds" in fields:
+                # A file written before the field: each layout's rows are one episode.
+                fields["episode_steps"] = _steps_by_layout(fields["layout_seeds"])
+            missing = [name for name in PER_ROW if name not in fields]
             if missing or not observations:
                 raise ValueError(
                     f"{path} is not a file of demonstrations: it lacks {missing or 'observations'}"
                 )
-            return Demonstrations(observations, *(data[name] for name in PER_ROW))
+            return Demonstrations(observations, *(fields[name] for name in PER_ROW))
+
+
+def _steps_by_layout(layout_seeds: np.ndarray) -> np.ndarray:
+    """Each row's index among the consecutive rows of its layout."""
+    steps = np.zeros(len(layout_seeds), dtype=np.int64)
+    for i in range(1, len(layout_seeds)):
+        if layout_seeds[i] == layout_seeds[i - 1]:
+            steps[i] = steps[i - 1] + 1
+    return steps
 
 
 def record(
@@ -208,4 +239,5 @@ def _episode(
         np.full(n, layout_seed, dtype=np.uint64),
         np.full(n, bool(info["success"])),
         np.full(n, int(info["tips"]), dtype=np.int64),
+        np.arange(n, dtype=np.int64),
     )

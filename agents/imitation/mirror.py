@@ -53,7 +53,8 @@ def mirrored(demonstrations: Demonstrations, geometry: Geometry) -> Demonstratio
     """``demonstrations`` in the mirror image of the scene ``geometry`` describes."""
     check_symmetric(geometry)
     observations = dict(demonstrations.observations)
-    observations["map"] = np.ascontiguousarray(observations["map"][..., ::-1])
+    if "map" in observations:  # the no-map agent sees the proprioception alone
+        observations["map"] = np.ascontiguousarray(observations["map"][..., ::-1])
     observations["proprio"] = observations["proprio"] * mirror_signs()
     actions = demonstrations.actions.copy()
     actions[:, 0] = len(geometry.probe_lanes) - 1 - actions[:, 0]
@@ -65,4 +66,5 @@ def mirrored(demonstrations: Demonstrations, geometry: Geometry) -> Demonstratio
         demonstrations.layout_seeds,
         demonstrations.episode_success,
         demonstrations.episode_tips,
+        demonstrations.episode_steps,
     )

@@ -76,6 +76,36 @@ class ImitationSettings:
         if not isinstance(self.mirror, bool):
             raise TypeError(f"mirror must be a bool, got {type(self.mirror).__name__}")
 
+    @classmethod
+    def from_recipe(cls, section: Any, seed: int) -> ImitationSettings:
+        """The settings a recipe's ``imitation`` section names (every key optional, the
+        ``cloning`` keys nested; the minibatches' order seeded with the run's ``seed``, as
+        ``agents.imitate`` does). Raises ``ValueError`` naming an unknown key, ``TypeError``
+        for a section that is not a mapping."""
+        section = as_mapping("the recipe's imitation section", section)
+        fields = {field.name for field in dataclasses.fields(cls)}
+        _known_keys("imitation", section, fields)
+        cloning = as_mapping("imitation.cloning", section.get("cloning", {}))
+        cloning_fields = {field.name for field in dataclasses.fields(CloningSettings)} - {"seed"}
+        _known_keys("imitation.cloning", cloning, cloning_fields)
+        return cls(**{**section, "cloning": CloningSettings(**{"seed": seed, **cloning})})
+
+    def record(self) -> dict[str, Any]:
+        """What ``config.yml`` keeps of the settings (the recipe section's form)."""
+        return dataclasses.asdict(self)
+
+
+def as_mapping(what: str, value: Any) -> dict[str, Any]:
+    if not isinstance(value, dict):
+        raise TypeError(f"{what} must be a mapping of settings, got {type(value).__name__}")
+    return value
+
+
+def _known_keys(what: str, section: dict[str, Any], known: set[str]) -> None:
+    unknown = sorted(set(section) - known)
+    if unknown:
+        raise ValueError(f"{what} has no setting {unknown}; it has {sorted(known)}")
+
 
 def imitate(
     map_mode: str,
@@ -89,19 +119,51 @@ def imitate(
     progress: bool = True,
     demonstrations_file: Path | None = None,
     label: str = "imitation",
+    algo: str = "ppo",
 ) -> Path:
-    """Clones the planner into the PPO recipe's network for ``map_mode``; the run directory.
+    """Clones the planner into the network of ``algo``'s recipe for ``map_mode`` (``ppo``, or
+    ``recurrent_ppo``: a memory, cloned on whole episodes); the run directory
+    (``<out>/<algo>_<map>_seed<seed>``).
 
     ``demonstrations_file`` (an ``.npz``) keeps the teacher's demonstrations: read if it
     exists (it must hold this run's layouts), else recorded and written there, so that
     variants of a run clone the same demonstrations. ``label`` names the agent in tables
     (``config.yml``'s ``label``; evaluations call it ``imitation (gpis map)``)."""
+    recipe = load_hyperparams(algo, map_mode, env_id, hyperparams)
+    return imitate_into(
+        Path(out) / run_name(algo, map_mode, seed),
+        recipe,
+        algo=algo,
+        seed=seed,
+        settings=settings or ImitationSettings(),
+        torch_threads=torch_threads,
+        env_id=env_id,
+        progress=progress,
+        demonstrations_file=demonstrations_file,
+        label=label,
+    )
+
+
+def imitate_into(
+    run_dir: Path,
+    recipe: dict[str, Any],
+    *,
+    seed: int,
+    settings: ImitationSettings,
+    torch_threads: int = 1,
+    env_id: str = ENV_ID,
+    progress: bool = True,
+    demonstrations_file: Path | None = None,
+    label: str = "imitation",
+    algo: str = "ppo",
+) -> Path:
+    """``imitate`` with ``algo``'s ``recipe`` given (its network, spaces and env) and the run
+    written to ``run_dir``; returns ``run_dir``."""
     import torch
     from stable_baselines3.common.utils import set_random_seed
 
-    settings = settings or ImitationSettings()
     started = time.monotonic()
-    recipe = load_hyperparams("ppo", map_mode, env_id, hyperparams)
+    map_mode = recipe["env_kwargs"]["map"]
     env_kwargs = dict(recipe["env_kwargs"])
     if env_kwargs.get("action_mode") != "probe":
         raise ValueError(
@@ -112,14 +174,12 @@ def imitate(
     set_random_seed(seed)
     spaces_env = make_training_env(env_kwargs, recipe["n_envs"], seed, env_id, threads=1)
     try:
-        model = new_model(algorithm_class("ppo"), recipe, spaces_env, seed)
+        model = new_model(algorithm_class(algo), recipe, spaces_env, seed)
     finally:
         spaces_env.close()
     policy = model.policy
     gamma = float(model.gamma)
-    layouts = _training_layouts(
-        seed, settings.demo_episodes + settings.dagger_rounds * settings.dagger_episodes
-    )
+    layouts = run_layouts(seed, settings)
 
     def say(text: str) -> None:
         if progress:
@@ -139,9 +199,9 @@ def imitate(
             demonstrations.save(demonstrations_file)
     train, held_out = demonstrations.split_by_layout(HELD_OUT, seed)
     say(f"teacher: {len(demonstrations)} probes on {len(teacher_layouts)} layouts")
-    run_dir = Path(out) / run_name("ppo", map_mode, seed)
+    run_dir = Path(run_dir)
     config: dict[str, Any] = {
-        "algo": "ppo",
+        "algo": algo,
         "label": label,
         "env_id": env_id,
         "map": map_mode,
@@ -154,13 +214,8 @@ def imitate(
         "machine": machine(),
         "imitation": {
             "teacher": GpisProbePlanner.name,
-            "demo_episodes": settings.demo_episodes,
-            "dagger_rounds": settings.dagger_rounds,
-            "dagger_episodes": settings.dagger_episodes,
-            "dagger_epochs": settings.dagger_epochs,
-            "mirror": settings.mirror,
+            **settings.record(),
             "held_out_layouts": held_out.episodes,
-            "cloning": dataclasses.asdict(settings.cloning),
             "rounds": [],
         },
     }
@@ -220,6 +275,13 @@ def _augmentation(mirror: bool, env_kwargs: dict[str, Any]) -> Any:
     return with_mirror_images
 
 
+def run_layouts(seed: int, settings: ImitationSettings) -> list[int]:
+    """The layouts of a run: the teacher's, then each DAgger round's, in order."""
+    return _training_layouts(
+        seed, settings.demo_episodes + settings.dagger_rounds * settings.dagger_episodes
+    )
+
+
 def _training_layouts(seed: int, count: int) -> list[int]:
     """``count`` distinct layout seeds from the training range, drawn with ``seed``."""
     low, high = TRAIN_LAYOUT_SEEDS
@@ -235,8 +297,15 @@ def _sampling_student(model: Any) -> Any:
     """Per episode, the model's policy sampling its probes (as PPO explores)."""
 
     def start(_layout_seed: int) -> Any:
+        memory = None  # a recurrent policy's, from the episode's start
+        first = True
+
         def act(observation: dict) -> np.ndarray:
-            action, _ = model.predict(observation, deterministic=False)
+            nonlocal memory, first
+            action, memory = model.predict(
+                observation, state=memory, episode_start=np.array([first]), deterministic=False
+            )
+            first = False
             return np.asarray(action)
 
         return act

@@ -22,14 +22,11 @@ workers). ``tactile_search`` itself (a compiled extension) must be installed on 
 
 from __future__ import annotations
 
-import argparse
 import math
 import time
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
-
-import yaml
 
 from agents.grid.ray_session import connect
 from agents.rllib.env import ENV_NAME, register
@@ -224,12 +221,3 @@ def train_rllib(
         if started:
             ray.shutdown()
     return rows
-
-
-def parse_setting(text: str) -> tuple[str, Any]:
-    """``key=value`` with the value read as YAML (``max_steps=64``, ``grid_shape=[36,72]``)."""
-    key, sep, value = text.partition("=")
-    if not sep or not key:
-        raise argparse.ArgumentTypeError(f"expected key=value, got {text!r}")
-    parsed = yaml.safe_load(value)
-    return key, tuple(parsed) if isinstance(parsed, list) else parsed

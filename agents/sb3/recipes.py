@@ -26,6 +26,7 @@ RUN_KEYS = (
     "deterministic_evaluation",
     "anchor_weight",
     "anchor_decay_timesteps",
+    "imitation",
 )
 
 

@@ -123,8 +123,18 @@ def train(
     code: dict[str, Any] | None = None,
     init_from: Path | None = None,
     label: str | None = None,
+    imitation: dict[str, Any] | None = None,
+    from_scratch: bool = False,
 ) -> Path:
     """Trains one agent and returns its run directory (``model.zip``, ``config.yml``, logs).
+
+    A PPO recipe with an ``imitation`` section (``agents/hyperparams/ppo.yml``) fine-tunes a
+    clone of the GPIS probe planner: ``agents.imitation.clone_stage.train_with_clone_stage``
+    (what ``agents.train`` runs) makes the clone and passes it here as ``init_from``, with
+    ``imitation``, the section as its clone stage ran it, which ``config.yml`` records. Such
+    a recipe needs ``init_from`` (a clone, or any model to warm-start from: the section is
+    then dropped from the recorded recipe) or ``from_scratch`` (PPO from fresh weights, an
+    ablation or a speed benchmark of PPO alone); ``ValueError`` otherwise.
 
     ``init_from`` (a run directory or its ``model.zip``, e.g. a published model under
     ``docs/results/models/``) warm-starts the policy: its weights, for the same algorithm and
@@ -182,6 +192,8 @@ def train(
         resume,
         init_from,
     )
+    if not isinstance(from_scratch, bool):
+        raise TypeError(f"from_scratch must be a bool, got {type(from_scratch).__name__}")
     if init_from is not None:
         init_from = model_file(Path(init_from))
     run_dir = Path(out) / run_name(algo, map_mode, seed)
@@ -198,6 +210,7 @@ def train(
             recipe["n_envs"] = int(n_envs)
         if max_minutes is not None:
             recipe["max_minutes"] = float(max_minutes)
+        _imitation_section(recipe, map_mode, imitation, init_from is not None, from_scratch)
         _clear_for_fresh_start(run_dir)
         config = {
             "algo": algo,
@@ -255,6 +268,36 @@ def train(
     logger.close()
     env.close()
     return run_dir
+
+
+def _imitation_section(
+    recipe: dict[str, Any],
+    map_mode: str,
+    ran: dict[str, Any] | None,
+    warm_start: bool,
+    from_scratch: bool,
+) -> None:
+    """The recipe's ``imitation`` section as this run records it, in place: the section its
+    clone stage ``ran`` (``init_from`` is that clone), else dropped (another warm start, or
+    PPO from scratch). ``ValueError`` for a section with neither (the clone stage is
+    ``agents.imitation.clone_stage``'s), or a section given for a recipe without one."""
+    if "imitation" not in recipe:
+        if ran is not None:
+            raise ValueError(
+                f"imitation settings were given, but the recipe for the {map_mode} "
+                "map has no imitation section"
+            )
+        return
+    if from_scratch or (warm_start and ran is None):
+        del recipe["imitation"]
+    elif warm_start:
+        recipe["imitation"] = ran
+    else:
+        raise ValueError(
+            f"the recipe for the {map_mode} map fine-tunes a clone of the planner (its "
+            "imitation section): train it with agents.imitation.clone_stage."
+            "train_with_clone_stage (as agents.train does), or give init_from or from_scratch"
+        )
 
 
 def _check_arguments(

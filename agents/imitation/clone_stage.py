@@ -1,0 +1,193 @@
+"""The clone stage of a recipe: the planner cloned first, then PPO fine-tunes the clone.
+
+A recipe with an ``imitation`` section (``agents/hyperparams/ppo.yml``,
+``recurrent_ppo.yml``) trains in two stages. ``train_with_clone_stage`` (what
+``agents.train`` and the grid's trials run) first imitates the GPIS probe planner into the
+recipe's network (``agents.imitation.training``: behaviour cloning and DAgger) as a run of its
+own in ``<run_dir>/imitation/``, then trains that clone with PPO
+(``agents.sb3.training.train``, warm-started from it); the run's ``config.yml`` records the
+section as the clone stage ran it and the clone's digest under ``init_from``. Started again,
+a run reuses a finished clone of the same algorithm, settings, seed and network, and a clone
+stage killed half-way starts again from the teacher's demonstrations it kept.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from agents.imitation.demonstrations import Demonstrations
+from agents.imitation.training import (
+    ImitationSettings,
+    as_mapping,
+    imitate_into,
+    run_layouts,
+)
+from agents.run_dir import CONFIG_FILE, MODEL_FILE, checkpoints, is_finished, run_name
+from agents.sb3.recipes import load_hyperparams
+from agents.sb3.training import train
+from tactile_search import ENV_ID
+
+#: Where a PPO run whose recipe has an ``imitation`` section keeps the clone it fine-tunes
+#: (``clone_stage``), a run directory of its own inside the PPO run's.
+CLONE_DIR = "imitation"
+#: The teacher's demonstrations a clone stage keeps, so that a stage started again after a
+#: kill clones the same demonstrations without recording them again.
+TEACHER_DEMONSTRATIONS_FILE = "teacher_demonstrations.npz"
+# The recipe keys that fix what a clone is: its network, spaces and environment.
+NETWORK_KEYS = ("policy", "policy_kwargs", "env_kwargs", "n_envs")
+
+
+def with_overrides(section: Any, overrides: Any) -> dict[str, Any]:
+    """A recipe's ``imitation`` section with ``overrides`` (keys of the same form; the
+    ``cloning`` keys merged one by one)."""
+    section = dict(as_mapping("the recipe's imitation section", section))
+    overrides = as_mapping("the imitation overrides", overrides)
+    for key, value in overrides.items():
+        if key == "cloning":
+            base = as_mapping("imitation.cloning", section.get("cloning", {}))
+            value = {**base, **as_mapping("the imitation overrides' cloning", value)}
+        section[key] = value
+    return section
+
+
+def clone_stage(
+    run_dir: Path,
+    recipe: dict[str, Any],
+    *,
+    seed: int,
+    algo: str = "ppo",
+    torch_threads: int = 1,
+    env_id: str = ENV_ID,
+    progress: bool = True,
+) -> Path:
+    """The clone that a run of ``algo``'s ``recipe`` (with an ``imitation`` section) starts from:
+    ``<run_dir>/imitation``, imitated with the section's settings unless it already holds a
+    finished clone of the same settings, seed and network (a run started again after its
+    clone finished). A stage killed half-way starts again from the teacher's
+    demonstrations it kept. Returns the clone's run directory."""
+    settings = ImitationSettings.from_recipe(recipe["imitation"], seed)
+    clone_dir = Path(run_dir) / CLONE_DIR
+    if _is_finished_clone(clone_dir, algo, recipe, settings, seed):
+        print(f"reusing the clone in {clone_dir}", flush=True)
+        return clone_dir
+    (clone_dir / MODEL_FILE).unlink(missing_ok=True)  # another recipe's clone
+    teacher_file = clone_dir / TEACHER_DEMONSTRATIONS_FILE
+    teacher_layouts = run_layouts(seed, settings)[: settings.demo_episodes]
+    if teacher_file.is_file() and not _holds_layouts(teacher_file, teacher_layouts):
+        teacher_file.unlink()
+    clone_dir.mkdir(parents=True, exist_ok=True)
+    print(f"imitating the teacher into {clone_dir}", flush=True)
+    return imitate_into(
+        clone_dir,
+        recipe,
+        algo=algo,
+        seed=seed,
+        settings=settings,
+        torch_threads=torch_threads,
+        env_id=env_id,
+        progress=progress,
+        demonstrations_file=teacher_file,
+    )
+
+
+def _is_finished_clone(
+    clone_dir: Path, algo: str, recipe: dict[str, Any], settings: ImitationSettings, seed: int
+) -> bool:
+    """Whether ``clone_dir`` holds a finished clone of ``settings``, ``seed`` and the
+    network and env of ``algo``'s ``recipe``."""
+    config_path = clone_dir / CONFIG_FILE
+    if not (clone_dir / MODEL_FILE).is_file() or not config_path.is_file():
+        return False
+    config = yaml.safe_load(config_path.read_text())
+    if not isinstance(config, dict) or (config.get("algo"), config.get("seed")) != (algo, seed):
+        return False
+    recorded = config.get("imitation") or {}
+    if {key: recorded.get(key) for key in settings.record()} != settings.record():
+        return False
+    network = config.get("hyperparams") or {}
+    return all(network.get(key) == recipe.get(key) for key in NETWORK_KEYS)
+
+
+def _holds_layouts(path: Path, layouts: list[int]) -> bool:
+    """Whether the demonstrations file at ``path`` holds exactly the episodes of ``layouts``."""
+    return set(Demonstrations.load(path).layout_seeds.tolist()) == set(layouts)
+
+
+def _unfinished(run_dir: Path) -> bool:
+    """Whether ``run_dir`` holds checkpoints of a run that did not finish (``train``
+    refuses to start afresh over it: resume it, or delete them)."""
+    if not checkpoints(run_dir):
+        return False
+    config_path = run_dir / CONFIG_FILE
+    config = yaml.safe_load(config_path.read_text()) if config_path.is_file() else None
+    return not (isinstance(config, dict) and is_finished(run_dir, config))
+
+
+def train_with_clone_stage(
+    algo: str,
+    map_mode: str,
+    *,
+    out: Path = Path("runs"),
+    seed: int = 0,
+    hyperparams: Path | None = None,
+    env_id: str = ENV_ID,
+    n_envs: int | None = None,
+    torch_threads: int = 2,
+    progress_bar: bool = True,
+    resume: bool = False,
+    init_from: Path | None = None,
+    from_scratch: bool = False,
+    imitation: dict[str, Any] | None = None,
+    **train_kwargs: Any,
+) -> Path:
+    """``agents.sb3.training.train``, with the recipe's clone stage first when it has one;
+    the run directory. ``imitation`` overrides keys of the recipe's section
+    (``{"demo_episodes": 200}``). A resumed run, a warm start (``init_from``) and
+    ``from_scratch`` clone nothing; the other arguments are ``train``'s."""
+    common = {
+        "out": out,
+        "seed": seed,
+        "hyperparams": hyperparams,
+        "env_id": env_id,
+        "n_envs": n_envs,
+        "torch_threads": torch_threads,
+        "progress_bar": progress_bar,
+        **train_kwargs,
+    }
+    recipe = load_hyperparams(algo, map_mode, env_id, hyperparams)
+    if "imitation" not in recipe:
+        if imitation:
+            raise ValueError(
+                f"imitation settings were given, but the {algo} recipe for the {map_mode} map "
+                "has no imitation section"
+            )
+        return train(algo, map_mode, resume=resume, init_from=init_from, **common)
+    run_dir = Path(out) / run_name(algo, map_mode, seed)
+    if resume or init_from is not None or from_scratch or _unfinished(run_dir):
+        # Nothing to clone: the run resumes, starts from another model or from fresh
+        # weights (or ``train`` refuses to start afresh over an unfinished run).
+        return train(
+            algo,
+            map_mode,
+            resume=resume,
+            init_from=init_from,
+            from_scratch=from_scratch,
+            **common,
+        )
+    section = with_overrides(recipe["imitation"], imitation or {})
+    ImitationSettings.from_recipe(section, seed)  # refuse bad settings before any work
+    if n_envs is not None:
+        recipe["n_envs"] = int(n_envs)
+    clone_dir = clone_stage(
+        run_dir,
+        {**recipe, "imitation": section},
+        algo=algo,
+        seed=seed,
+        torch_threads=torch_threads,
+        env_id=env_id,
+        progress=progress_bar,
+    )
+    return train(algo, map_mode, init_from=clone_dir, imitation=section, **common)
