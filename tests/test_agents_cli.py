@@ -253,7 +253,16 @@ def test_the_results_page_takes_machines_code_and_seeds_from_the_run_configs(tmp
         }
         (run_dir / "config.yml").write_text(yaml.safe_dump(config))
         run_dirs.append(run_dir)
-    page = results_markdown("full", BUDGETS["full"], run_dirs, "| table |\n")
+    # Seed 1 fine-tuned its clone stage's clone: both stages' wall-clock count.
+    (run_dirs[1] / "imitation").mkdir()
+    (run_dirs[1] / "imitation" / "config.yml").write_text(
+        yaml.safe_dump({"wall_clock_seconds": 1500.0})
+    )
+    page = results_markdown(
+        "full", BUDGETS["full"], run_dirs, "| table |\n", "| pooled |\n", "| sampled pooled |\n"
+    )
+    assert "| 1.0 | 0 |" in page and "| 25.0 + 1.0 = 26.0 | 1 |" in page
+    assert "Sampling their probes" in page and "| sampled pooled |" in page
     assert "96 CPU cores (a test CPU), no GPU" in page
     assert "`0123456789ab`, `0123456789ab` (with uncommitted changes)" in page
     assert "[4,294,967,296, 9,223,372,036,854,775,808)" in page

@@ -178,11 +178,18 @@ def test_the_pipeline_gives_the_same_table_on_ray_and_locally(cluster, tmp_path)
             results=tmp_path / scheduler / "results",
             cpus_per_trial=1,
             imitation=SMALL_IMITATION,
+            sampled_too=True,
         )
         run_dirs, tables[scheduler] = run_budget(budget, [0, 1], scheduler, progress_bar=False)
         assert [d.name for d in run_dirs] == ["ppo_none_seed0", "ppo_none_seed1"]
         assert (budget.results / "training" / "ppo_none_seed1" / "config.yml").is_file()
     assert tables["ray"] == tables["local"]
+    # The learned agents sampling their probes, too, the same rows either way.
+    sampled = [rows(tmp_path / s / "results" / "sampled" / "episodes.csv") for s in tables]
+    assert sampled[0] == sampled[1] and {r["agent"] for r in sampled[0]} == {
+        "ppo (none map, seed 0)",
+        "ppo (none map, seed 1)",
+    }
     assert "seed 1" in tables["ray"]  # two training seeds of one agent, told apart
 
 

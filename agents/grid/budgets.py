@@ -43,6 +43,10 @@ class Budget:
     # Overrides of the PPO recipes' imitation sections (the clone stage before PPO); a run
     # that warm-starts clones nothing.
     imitation: dict[str, Any] | None = None
+    # The learned agents evaluated a second time sampling their probes (``<results>/sampled/``),
+    # beside the main table's recipe's way (their mode: what SB3's ``evaluate_policy`` and
+    # rl-zoo3 do by default).
+    sampled_too: bool = False
 
 
 # The documented budget's models (model.zip beside config.yml, one folder per run).
@@ -74,6 +78,7 @@ BUDGETS = {
         cpus_per_trial=1,
         split="test",
         seeds=(0, 1, 2),
+        sampled_too=True,
     ),
 }
 

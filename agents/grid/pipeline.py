@@ -45,6 +45,8 @@ from agents.run_dir import code_version, run_name
 from agents.sb3.recipes import load_hyperparams
 
 SCHEDULERS = ("ray", "local")
+# Where a budget with ``sampled_too`` keeps the learned agents' rows sampling their probes.
+SAMPLED_DIR = "sampled"
 
 
 def default_scheduler() -> str:
@@ -116,21 +118,26 @@ def run_budget(
         cpus = ray.cluster_resources().get("CPU", 0)
         print(f"Ray: {cpus:g} CPUs; {len(grid)} training trials", flush=True)
         run_dirs = ray_scheduler.train_on_ray(grid)
-        summaries = ray_scheduler.evaluate_on_ray(
-            [*map(str, run_dirs), *SCRIPTED],
-            out=budget.results,
-            episodes=budget.episodes,
-            split=budget.split,
-            final=budget.split == "test",
-        )
+        evaluation = ray_scheduler.evaluate_on_ray
     else:
         run_dirs = train_all(grid, progress_bar)
-        summaries = evaluate(
-            [*map(str, run_dirs), *SCRIPTED],
-            out=budget.results,
+        evaluation = evaluate
+    summaries = evaluation(
+        [*map(str, run_dirs), *SCRIPTED],
+        out=budget.results,
+        episodes=budget.episodes,
+        split=budget.split,
+        final=budget.split == "test",
+    )
+    if budget.sampled_too:
+        evaluation(
+            list(map(str, run_dirs)),
+            out=budget.results / SAMPLED_DIR,
             episodes=budget.episodes,
             split=budget.split,
             final=budget.split == "test",
+            gifs=False,
+            actions="sample",
         )
     for run_dir in run_dirs:  # the record of each run beside the results (models stay out)
         record = budget.results / "training" / run_dir.name
@@ -162,11 +169,17 @@ def run(
     )
     rows, _ = read_episodes_csv(budget.results / "episodes.csv")
     comparison = comparison_markdown(rows, reference=REFERENCE_AGENT)
+    sampled = ""
+    if budget.sampled_too:
+        sampled_rows, _ = read_episodes_csv(budget.results / SAMPLED_DIR / "episodes.csv")
+        sampled = comparison_markdown(sampled_rows, reference=REFERENCE_AGENT)
     if budget_name == "full":
         path = budget.results.parent / "RESULTS.md"
-        write_results(path, results_markdown(budget_name, budget, run_dirs, table, comparison))
+        generated = results_markdown(budget_name, budget, run_dirs, table, comparison, sampled)
+        write_results(path, generated)
         print(f"wrote {path}")
     print(table)
     print(comparison)
+    print(sampled)
     print(f"pipeline took {(time.perf_counter() - started) / 60:.1f} min; see {budget.results}/")
     return budget.results

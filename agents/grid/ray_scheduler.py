@@ -95,8 +95,10 @@ def train_on_ray(
 
 
 @ray.remote(num_cpus=1)
-def _evaluation_task(spec: str, files: dict[str, bytes] | None, seeds: list[int]) -> list[dict]:
-    return evaluate_shard(spec, files, seeds)
+def _evaluation_task(
+    spec: str, files: dict[str, bytes] | None, seeds: list[int], actions: str
+) -> list[dict]:
+    return evaluate_shard(spec, files, seeds, actions)
 
 
 def evaluate_on_ray(
@@ -109,16 +111,20 @@ def evaluate_on_ray(
     shard_episodes: int = DEFAULT_SHARD_EPISODES,
     max_failures: int = DEFAULT_MAX_FAILURES,
     gifs: bool = True,
+    actions: str = "recipe",
 ) -> list[Summary]:
     """``agents.evaluation.evaluation.evaluate`` with the episodes run as Ray tasks: each
     agent's missing (layout) episodes in slices of ``shard_episodes``, every row appended to
     ``<out>/episodes.csv`` as its task ends. Then ``evaluate`` writes the table, plots and
     GIFs from those rows (reusing them all), as it does after a run of its own. A task that
     fails is retried ``max_failures`` times; if some still fail, ``GridError`` names them
-    after the others have finished (their rows are kept: run again to finish)."""
+    after the others have finished (their rows are kept: run again to finish). ``actions``:
+    how learned agents act (``evaluate``'s)."""
     out = Path(out)
     seeds = evaluation_seeds(split, episodes, final)
-    made, names, fingerprints, done = prepare_evaluation(agent_specs, out, seeds, resume=True)
+    made, names, fingerprints, done = prepare_evaluation(
+        agent_specs, out, seeds, resume=True, actions=actions
+    )
     map_modes = [env_kwargs["map"] for _, env_kwargs in made]
     csv_path = out / "episodes.csv"
     task = _evaluation_task.options(max_retries=max_failures, retry_exceptions=True)
@@ -127,7 +133,12 @@ def evaluate_on_ray(
         todo = [seed for seed in seeds if (name, seed) not in done]
         files = None if spec in SCRIPTED_AGENTS else ray.put(run_files(Path(spec)))
         for shard in shards(todo, shard_episodes):
-            pending[task.remote(spec, files, shard)] = (name, map_mode, fingerprints[spec], shard)
+            pending[task.remote(spec, files, shard, actions)] = (
+                name,
+                map_mode,
+                fingerprints[spec],
+                shard,
+            )
     failed = []
     with csv_path.open("a", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(EPISODE_COLUMNS))
@@ -148,5 +159,12 @@ def evaluate_on_ray(
             + "\n  ".join(failed)
         )
     return evaluate(
-        agent_specs, out=out, episodes=episodes, split=split, final=final, gifs=gifs, resume=True
+        agent_specs,
+        out=out,
+        episodes=episodes,
+        split=split,
+        final=final,
+        gifs=gifs,
+        resume=True,
+        actions=actions,
     )

@@ -10,6 +10,7 @@ from pathlib import Path
 import yaml
 
 from agents.grid.budgets import Budget
+from agents.imitation.clone_stage import CLONE_DIR
 from tactile_search.seed_ranges import held_out_seeds
 
 
@@ -44,11 +45,28 @@ def range_text(config: dict) -> str:
     return f"[{bounds[0]:,}, {bounds[1]:,})" if bounds else "an unrecorded range"
 
 
+def wall_clock_text(run_dir: Path, config: dict) -> str:
+    """A run's training wall-clock in minutes: its clone stage's (``<run>/imitation/``, when
+    it has one) plus its PPO's, and their sum."""
+    ppo = config["wall_clock_seconds"] / 60
+    clone_config = run_dir / CLONE_DIR / "config.yml"
+    if not clone_config.is_file():
+        return f"{ppo:.1f}"
+    clone = yaml.safe_load(clone_config.read_text())["wall_clock_seconds"] / 60
+    return f"{clone:.1f} + {ppo:.1f} = {clone + ppo:.1f}"
+
+
 def results_markdown(
-    budget_name: str, budget: Budget, run_dirs: list[Path], table: str, comparison: str = ""
+    budget_name: str,
+    budget: Budget,
+    run_dirs: list[Path],
+    table: str,
+    comparison: str = "",
+    sampled: str = "",
 ) -> str:
     """``RESULTS.md``: the commands, budgets, seeds and the table; the machines, code
-    versions and seed ranges are read from the runs' ``config.yml``."""
+    versions and seed ranges are read from the runs' ``config.yml``. ``sampled``: the
+    learned agents' pooled comparison when sampling their probes, if evaluated so."""
     configs = [yaml.safe_load((run_dir / "config.yml").read_text()) for run_dir in run_dirs]
     lines = [
         f"Produced by `make results` (`python -m agents.pipeline --budget {budget_name}`), "
@@ -60,15 +78,16 @@ def results_markdown(
         "",
         "## Budgets and seeds",
         "",
-        "| agent | timesteps | training wall-clock (min) | training seed | recipe |",
+        "| agent | timesteps | training wall-clock (min): clone stage + PPO | training seed "
+        "| recipe |",
         "|---|---|---|---|---|",
     ]
-    for config in configs:
+    for run_dir, config in zip(run_dirs, configs, strict=True):
         algo, map_mode = config["algo"], config["map"]
         recipe = config["hyperparams"]
         lines.append(
             f"| {algo} ({map_mode} map) | {config['timesteps_done']:,} "
-            f"| {config['wall_clock_seconds'] / 60:.1f} | {config['seed']} "
+            f"| {wall_clock_text(run_dir, config)} | {config['seed']} "
             f"| `agents/hyperparams/{algo}.yml`, n_envs {recipe['n_envs']}, "
             f"env {recipe['env_kwargs']} |"
         )
@@ -94,6 +113,16 @@ def results_markdown(
         "agent's (`agents/comparison.py`):",
         "",
         comparison,
+        *(
+            [
+                "Sampling their probes instead of taking the policy's mode (the learned agents "
+                f"alone, `{budget.results.name}/sampled/`):",
+                "",
+                sampled,
+            ]
+            if sampled
+            else []
+        ),
         "![success](results/success.png)",
         "",
         "![steps](results/steps.png)",

@@ -111,27 +111,26 @@ def run_files(run_dir: Path) -> dict[str, bytes]:
 
 
 def evaluate_shard(
-    spec: str, files: dict[str, bytes] | None, seeds: list[int]
+    spec: str, files: dict[str, bytes] | None, seeds: list[int], actions: str = "recipe"
 ) -> list[dict[str, Any]]:
     """One episode per seed of the agent ``spec`` (a scripted name, or a run whose ``files``
-    are given), as ``agents.rollout.evaluate_agent`` summarises them. Uses one torch
-    thread, as ``agents.evaluation.evaluation.evaluate`` does."""
+    are given), as ``agents.rollout.evaluate_agent`` summarises them; a learned agent acts
+    as ``actions`` says (``agents.evaluation.agent_specs.ACTIONS``). Uses one torch thread,
+    as ``agents.evaluation.evaluation.evaluate`` does."""
     from agents.evaluation.agent_specs import make_agent
     from agents.rollout import evaluate_agent
 
     if files is None:
-        agent, env_kwargs = make_agent(spec)
+        agent, env_kwargs = make_agent(spec, actions)
     else:
         import torch
-
-        from agents.sb3.learned import LearnedAgent
 
         torch.set_num_threads(1)
         with tempfile.TemporaryDirectory(prefix="tactile_search_run_") as tmp:
             for name, content in files.items():
                 (Path(tmp) / name).write_bytes(content)
-            agent = LearnedAgent(Path(tmp))  # holds the model in memory from here on
-        env_kwargs = agent.env_kwargs
+            # The agent holds the model in memory from here on.
+            agent, env_kwargs = make_agent(tmp, actions)
     # One episode at a time on one thread: the task declares one CPU.
     return evaluate_agent(agent, seeds, num_envs=1, threads=1, **env_kwargs)
 
