@@ -1,7 +1,7 @@
 """Evaluate trained models and scripted baselines on held-out layouts (the command)::
 
     python -m agents.evaluate --runs runs/ppo_gpis_seed0 runs/ppo_none_seed0 \\
-        --scripted random gpis_planner oracle --episodes 200 --out results
+        --scripted random gpis_probe_planner oracle --episodes 200 --out results
 
 A thin CLI over ``agents.evaluation.evaluation.evaluate``, which documents what it writes.
 """

@@ -3,7 +3,7 @@
 
 For each value, over the same validation seeds (the first of
 ``tactile_search.seed_ranges.VALIDATION``), the environment is reset
-(the map is the depth prior alone: ``info["iou"]`` and rows) and the scripted GPIS planner,
+(the map is the depth prior alone: ``info["iou"]`` and rows) and the scripted GPIS probe planner,
 which reads only the observation, runs the episode (success, and the IoU of the map that
 depth and touch built by its end). Reset times are medians of ``env.reset`` in the same
 run. The prior's cost grows as rows² times grid cells, so fewer points make resets cheaper; the
@@ -19,7 +19,7 @@ import argparse
 import statistics
 import time
 
-from agents.scripted import GpisPlanner
+from agents.scripted import GpisProbePlanner
 from tactile_search import CupboardSearchEnv
 from tactile_search.benchmark.statistics import wilson_interval
 from tactile_search.seed_ranges import held_out_seeds
@@ -34,8 +34,8 @@ def interval(successes: int, n: int) -> str:
 
 
 def measure(points: int, seeds: list[int]) -> dict[str, float | str]:
-    env = CupboardSearchEnv(max_prior_depth_points=points)
-    planner = GpisPlanner()
+    env = CupboardSearchEnv(max_prior_depth_points=points, **GpisProbePlanner.env_kwargs)
+    planner = GpisProbePlanner()
     prior_iou, final_iou, rows, resets = [], [], [], []
     successes = 0
     for seed in seeds:

@@ -114,7 +114,6 @@ def test_the_command_line_evaluates_an_sb3_model_zip(tmp_path: Path) -> None:
     "spec",
     [
         "random",
-        "gpis_planner",
         "gpis_probe_planner",
         "oracle",
         "docs/results/ablations_speed/runs/ppo_gpis_seed0",

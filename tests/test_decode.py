@@ -89,7 +89,7 @@ def test_proprio_decodes_as_the_hand_formulas(episodes, mode: str) -> None:
             "x", "y", "yaw", "deflection", "in_contact", "contact_dx", "contact_dy",
             "normal_x", "normal_y", "time_left", "steps",
         ]  # fmt: skip
-        # The planner's formulas (agents/scripted/gpis_planner.py::_pose), bit for bit.
+        # The planner's formulas (agents/scripted/gpis_probe_planner.py::_pose), bit for bit.
         assert d["x"] == x0 + (float(proprio[p["x"]]) + 1.0) * 0.5 * (x1 - x0)
         assert d["y"] == y0 + (float(proprio[p["y"]]) + 1.0) * 0.5 * (y1 - y0)
         # In f64 (the planner's arctan2 of the float32 entries ran in float32, whose rounding

@@ -2,7 +2,7 @@
 ``evaluate``, under the thin CLI ``python -m agents.evaluate``::
 
     python -m agents.evaluate --runs runs/ppo_gpis_seed0 runs/ppo_none_seed0 \\
-        --scripted random gpis_planner oracle --episodes 200 --out results
+        --scripted random gpis_probe_planner oracle --episodes 200 --out results
 
 Every agent meets the same held-out layouts: the first seeds of the validation range
 (``tactile_search.seed_ranges``: 1,000,000 and up, never drawn in training), or of the test range
@@ -126,7 +126,7 @@ def evaluate(
     ``split``: ``validation`` or ``test`` (``tactile_search.seed_ranges``; the test range only with
     ``final=True``, ``evaluation_seeds``); the first ``episodes`` seeds of it.
 
-    ``agent_specs``: scripted agent names (``random``, ``gpis_planner``, ``oracle``) and run
+    ``agent_specs``: scripted agent names (``random``, ``gpis_probe_planner``, ``oracle``) and run
     directories of ``agents.train``. ``gif_steps`` caps the steps an example GIF shows.
     ``torch_threads``: one thread predicts a single observation fastest (more threads only
     add synchronisation, and spin against anything else running). ``actions``: how learned

@@ -83,7 +83,7 @@ BUDGETS = {
 }
 
 
-SCRIPTED = ("random", "gpis_planner", "gpis_probe_planner", "oracle")
+SCRIPTED = ("random", "gpis_probe_planner", "oracle")
 
 
 # The agent every other is compared with.

@@ -1,39 +1,73 @@
-"""The GPIS planner on the agents' action interface: it chooses probes, the core drives them.
+"""A scripted searcher that plans on the GPIS map, without ground truth, choosing the probes
+of the core's probe action mode.
 
-``GpisPlanner`` searches by probes but drives the wrist itself, motion by motion, with its
-own controller. This agent keeps its belief and its choice of probes and hands the driving
-to the core: it runs on an env with ``action_mode="probe"`` and each action is a probe of
-the core's grid, ``(lane, depth, sweep)`` indices (``geometry()``'s ``probe_lanes``,
-``probe_depths``, ``probe_yaws``), which the core's observation-only controller carries out
-as the learned agents' probes are. A gap between this planner and a learned agent is then
-the choice of probes, not the controller.
+Strategy. The target hides in the camera's shadow behind other jars, and touching a jar
+that is not the target does not end the episode. The planner keeps a belief
+(``SearchMap``): the GPIS mean and std decoded from the observation, the camera's shadows,
+the cells its finger swept without contact and the jars it touched. It runs on an env with
+``action_mode="probe"``: each action is a probe of the core's grid, ``(lane, depth, sweep)``
+indices (``geometry()``'s ``probe_lanes``, ``probe_depths``, ``probe_yaws``), which the
+core's observation-only controller carries out as the learned agents' probes are (back out
+and across to change lanes, straight in along the lane, then the turn; a probe that touches
+stops there). A gap between this planner and a learned agent is then the choice of probes,
+not the controller.
 
 Per probe it sees one observation, after the probe. Its belief learns what the finger swept
-from the probe it chose and the pose the probe ended in (the controller's path is known: back
-out and across to change lanes, straight in along the lane, then the turn; a probe that
-touches stops there), and what it touched from the map and the contact in the observation.
-It then scores every probe of the grid the wrist and arm can make without coming near a
-cell that may hold a jar, with a sweep no wider than the largest safe turn, by the hiding
-weight its finger passes over per motion the controller will make (the core counts them:
-``probe_motions``), as ``GpisPlanner`` does
-on its own finer probes.
+from the probe it chose and the pose the probe ended in, and what it touched from the map
+and the contact in the observation. It then scores every probe of the grid the wrist and arm
+can make without coming near a cell that may hold a jar (``agents.scripted.clearance``:
+seen or touched surfaces, touched jars, shadows not yet swept), with a sweep no wider than
+the largest safe turn, by the hiding weight (the GPIS std over the cells where the target's
+centre may be) its finger passes over per motion the controller will make (the core counts
+them: ``probe_motions``).
+
+(Until issue 24 a second form of this planner drove the wrist itself, motion by motion, with
+its own finer lanes; ``docs/RESULTS.md`` reports both forms on the validation layouts.)
 """
 
 from __future__ import annotations
 
-from typing import ClassVar
+import dataclasses
+from collections.abc import Callable
+from typing import Any, ClassVar
 
 import numpy as np
 
-from agents.scripted.gpis_planner import COST_OFFSET, ClearanceField, GpisPlanner, Pose, Probe
+from agents.scripted.clearance import ClearanceField, deepest_clear, safe_angle
+from agents.scripted.geometry import Geometry
+from agents.scripted.search_map import SearchMap
 from tactile_search import CupboardSearchEnv
+from tactile_search.envs.observation import PROPRIO
 
+# Motions added to every probe's cost (favours probes that cover more at once).
+COST_OFFSET = 15.0
 # A pose is at a lane, or has not turned, within these (m, rad).
 LANE_TOL = 1e-4
 YAW_TOL = 1e-3
 
 
-class GpisProbePlanner(GpisPlanner):
+@dataclasses.dataclass(frozen=True)
+class Probe:
+    """Go in along lane ``x`` to wrist depth ``y``, then turn the finger ``angle`` rad
+    towards ``side`` (+1: +x)."""
+
+    x: float
+    y: float
+    side: float
+    angle: float
+
+
+@dataclasses.dataclass(frozen=True)
+class Pose:
+    x: float
+    y: float
+    yaw: float
+    deflection: float
+    contact: np.ndarray | None
+    normal: np.ndarray | None
+
+
+class GpisProbePlanner:
     """The GPIS-map searcher choosing the core's probes; see the module docstring."""
 
     name = "gpis_probe_planner"
@@ -41,18 +75,31 @@ class GpisProbePlanner(GpisPlanner):
     env_kwargs: ClassVar[dict[str, str]] = {"map": "gpis", "action_mode": "probe"}
 
     def __init__(self) -> None:
-        super().__init__()
+        self.geometry: Geometry | None = None
+        self.belief: SearchMap | None = None
         self._chosen: tuple[int, int, int] | None = None
+        self._last_finger: tuple[np.ndarray, np.ndarray] | None = None
+        self._decode_map: Callable[[np.ndarray], dict[str, np.ndarray]] | None = None
+        self._decode_proprio: Callable[[np.ndarray], dict[str, Any]] | None = None
+
+    # -- episode -----------------------------------------------------------------------
 
     def reset(self, env: CupboardSearchEnv, observation: dict, info: dict) -> None:
+        if "map" not in observation:
+            raise ValueError("GpisProbePlanner needs the map observation (map='gpis')")
         if env.config.action_mode != "probe":
             raise ValueError(
                 f"GpisProbePlanner needs action_mode='probe', got {env.config.action_mode!r}"
             )
-        super().reset(env, observation, info)
+        self.geometry = Geometry.from_env(env)
+        # The core's decoders of this env's observation (its map mode and scales).
+        self._decode_map = env.decode_map
+        self._decode_proprio = env.decode_proprio
+        self.belief = SearchMap(self.geometry, self._decode_map(observation["map"]))
         # The core's count of the controller's motions per probe (from the settings alone).
         self._probe_motions = env.probe_motions
         self._chosen = None
+        self._last_finger = None
         self._remember_touch(self._pose(observation["proprio"]))
 
     def act(self, observation: dict) -> np.ndarray:
@@ -85,6 +132,61 @@ class GpisProbePlanner(GpisPlanner):
                 f"follow needs a probe (lane, depth, sweep) below {sizes}, got {action!r}"
             )
         self._chosen = tuple(int(i) for i in indices)
+
+    # -- observation -------------------------------------------------------------------
+
+    def _pose(self, proprio: np.ndarray) -> Pose:
+        q = self._decode_proprio(proprio)  # physical quantities, decoded by the core
+        x, y, deflection = q["x"], q["y"], q["deflection"]
+        # The heading in float32 from the observed (unscaled) sin and cos, as the planner's
+        # constants were chosen with on the validation layouts; the core's q["yaw"] is the
+        # same angle in f64 and differs in the last bits, which moves one planner episode of
+        # 50 by micrometres.
+        yaw = float(np.arctan2(proprio[PROPRIO["sin_yaw"]], proprio[PROPRIO["cos_yaw"]]))
+        contact = normal = None
+        if q["in_contact"]:
+            offset = np.array([q["contact_dx"], q["contact_dy"]])
+            contact = self._contact_point(x, y, yaw + deflection, yaw, offset)
+            normal = np.array([q["normal_x"], q["normal_y"]])
+        return Pose(x, y, yaw, deflection, contact, normal)
+
+    def _contact_point(
+        self, x: float, y: float, heading: float, yaw: float, offset: np.ndarray
+    ) -> np.ndarray:
+        """The contact point from its offset to the wrist (m). The observation clips the
+        offset at the finger length, which cuts off contacts near the fingertip; those are put
+        back on the finger from the unclipped component."""
+        g = self.geometry
+        point = np.array([x, y]) + offset
+        clipped = np.abs(offset) >= 0.999 * g.finger_length
+        if not clipped.any():
+            return point
+        joint = np.array([x, y]) + g.joint_offset * _forward(yaw)
+        direction = _forward(heading)
+        along = g.finger_length
+        for axis in (0, 1):
+            if not clipped[axis] and abs(direction[axis]) > 0.3:
+                along = float(np.clip((point[axis] - joint[axis]) / direction[axis], 0.0, along))
+                break
+        return joint + along * direction
+
+    def _remember_touch(self, pose: Pose) -> None:
+        """Adds a touched jar, or the finger's sweep since the last observation, to the
+        belief."""
+        g = self.geometry
+        heading = pose.yaw + pose.deflection
+        joint = np.array([pose.x, pose.y]) + g.joint_offset * _forward(pose.yaw)
+        tip = joint + g.finger_length * _forward(heading)
+        if pose.contact is not None:
+            self.belief.add_touch(pose.contact, pose.normal)
+            self._last_finger = None
+        else:
+            previous = self._last_finger or (joint, tip)
+            for t in np.linspace(0.0, 1.0, 4):
+                self.belief.sweep_finger(
+                    previous[0] + t * (joint - previous[0]), previous[1] + t * (tip - previous[1])
+                )
+            self._last_finger = (joint, tip)
 
     # -- what the last probe swept -----------------------------------------------------
 
@@ -144,14 +246,14 @@ class GpisProbePlanner(GpisPlanner):
         solid = ClearanceField(self.belief, self.belief.solid(0.0))
         reachable = []
         for lane, x in enumerate(g.probe_lanes):
-            deepest = self._deepest_clear(field, solid, float(x))
+            deepest = deepest_clear(g, field, solid, float(x))
             if deepest is None:
                 continue
             for depth, y in enumerate(g.probe_depths):
                 if y > deepest + 1e-9:
                     break
                 safe = {
-                    side: self._safe_angle(field, solid, float(x), float(y), side)
+                    side: safe_angle(g, field, solid, float(x), float(y), side)
                     for side in (-1.0, 1.0)
                 }
                 for sweep, yaw in enumerate(g.probe_yaws):
@@ -180,3 +282,23 @@ class GpisProbePlanner(GpisPlanner):
             and abs(pose.y - probe.y) <= LANE_TOL
             and abs(pose.yaw - yaw) <= YAW_TOL
         )
+
+    def _covers(self, probe: Probe, cells: np.ndarray, hit: float) -> np.ndarray:
+        """Which candidate centres lie within ``hit`` of the probe's finger path (straight in
+        along the lane, then the turn)."""
+        g = self.geometry
+        dx = (cells[:, 0] - probe.x) * probe.side
+        dy = cells[:, 1] - probe.y
+        straight = (np.abs(dx) <= hit) & (dy <= g.reach + hit)
+        rho = np.hypot(dx, dy)
+        phi = np.arctan2(dx, dy)
+        beyond = np.clip(phi - np.clip(phi, 0.0, probe.angle), -np.pi / 2, np.pi / 2)
+        off_ray = rho * np.sin(np.abs(beyond))
+        along_ray = rho * np.cos(beyond)
+        swept = (off_ray <= hit) & (along_ray >= g.joint_offset) & (rho <= g.reach + hit)
+        return straight | swept
+
+
+def _forward(yaw: float) -> np.ndarray:
+    """The finger's direction at ``yaw`` (0 points along +y)."""
+    return np.array([-np.sin(yaw), np.cos(yaw)])
