@@ -119,40 +119,60 @@ def _in_order(policy: Any, demonstrations: Demonstrations, batch_size: int) -> l
     return batches
 
 
-def _memory(policy: Any, batch: Demonstrations) -> tuple[Any, Any]:
-    """A recurrent policy's empty memory for a batch run as one sequence, and where its
-    episodes start (the memory is emptied there)."""
+def _as_sequences(policy: Any, batch: Demonstrations) -> tuple[Demonstrations, Any, Any, Any]:
+    """``batch``'s episodes side by side, as sb3-contrib's recurrent policies take sequences:
+    each padded to the longest by repeating its last row (the padding is masked out), an
+    empty memory per sequence, the sequences' starts (the memory is emptied there), and the
+    mask of the real rows (in ``batch``'s order)."""
     import torch
     from sb3_contrib.common.recurrent.type_aliases import RNNStates
 
+    episodes = batch.episode_slices()
+    length = max(episode.stop - episode.start for episode in episodes)
+    index = np.concatenate(
+        [np.minimum(np.arange(e.start, e.start + length), e.stop - 1) for e in episodes]
+    )
+    real = np.concatenate([np.arange(length) < e.stop - e.start for e in episodes])
+    shape = list(policy.lstm_hidden_state_shape)  # (layers, sequences, hidden)
+    shape[1] = len(episodes)
+
     def empty() -> tuple[Any, Any]:
-        shape = policy.lstm_hidden_state_shape  # (layers, 1 sequence, hidden)
         return torch.zeros(shape, device=policy.device), torch.zeros(shape, device=policy.device)
 
-    starts = torch.as_tensor(batch.episode_steps == 0, dtype=torch.float32, device=policy.device)
-    return RNNStates(empty(), empty()), starts
+    starts = np.tile(np.arange(length) == 0, len(episodes)).astype(np.float32)
+    return (
+        batch.rows(index),
+        RNNStates(empty(), empty()),
+        torch.as_tensor(starts, device=policy.device),
+        torch.as_tensor(real, device=policy.device),
+    )
 
 
 def _evaluate_actions(policy: Any, batch: Demonstrations) -> tuple[Any, Any, Any]:
     """The values, log-likelihoods of the teacher's probes and entropies over ``batch``."""
     import torch
 
-    observations, _ = policy.obs_to_tensor(batch.observations)
-    actions = torch.as_tensor(batch.actions, device=policy.device)
     if not is_recurrent(policy):
+        observations, _ = policy.obs_to_tensor(batch.observations)
+        actions = torch.as_tensor(batch.actions, device=policy.device)
         return policy.evaluate_actions(observations, actions)
-    states, starts = _memory(policy, batch)
-    return policy.evaluate_actions(observations, actions, states, starts)
+    padded, states, starts, real = _as_sequences(policy, batch)
+    observations, _ = policy.obs_to_tensor(padded.observations)
+    actions = torch.as_tensor(padded.actions, device=policy.device)
+    values, log_prob, entropy = policy.evaluate_actions(observations, actions, states, starts)
+    return values[real], log_prob[real], entropy[real]
 
 
-def _distribution(policy: Any, batch: Demonstrations) -> Any:
-    """The policy's probe distribution over ``batch`` (whole episodes for a recurrent one)."""
-    observations, _ = policy.obs_to_tensor(batch.observations)
+def _modes(policy: Any, batch: Demonstrations) -> np.ndarray:
+    """The policy's most likely probe at each row of ``batch`` (whole episodes for a
+    recurrent one)."""
     if not is_recurrent(policy):
-        return policy.get_distribution(observations)
-    states, starts = _memory(policy, batch)
+        observations, _ = policy.obs_to_tensor(batch.observations)
+        return policy.get_distribution(observations).mode().cpu().numpy()
+    padded, states, starts, real = _as_sequences(policy, batch)
+    observations, _ = policy.obs_to_tensor(padded.observations)
     distribution, _ = policy.get_distribution(observations, states.pi, starts)
-    return distribution
+    return distribution.mode()[real].cpu().numpy()
 
 
 def agreement(policy: Any, demonstrations: Demonstrations, batch_size: int = 512) -> dict:
@@ -167,7 +187,7 @@ def agreement(policy: Any, demonstrations: Demonstrations, batch_size: int = 512
     with torch.no_grad():
         for index in _in_order(policy, demonstrations, batch_size):
             batch = demonstrations.rows(index)
-            mode = _distribution(policy, batch).mode().cpu().numpy()
+            mode = _modes(policy, batch)
             matches.append(mode.reshape(batch.actions.shape) == batch.actions)
     equal = np.concatenate(matches)
     fractions = {
