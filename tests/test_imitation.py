@@ -402,6 +402,13 @@ def test_a_recipe_with_an_imitation_section_fine_tunes_the_clone_it_keeps(
     clone = yaml.safe_load((clone_dir / "config.yml").read_text())
     assert clone["imitation"]["demo_episodes"] == 10
 
+    # A stage killed while it wrote the teacher's demonstrations records them again.
+    (clone_dir / "model.zip").unlink()
+    teacher = clone_dir / "teacher_demonstrations.npz"
+    teacher.write_bytes(teacher.read_bytes()[:100])
+    train_with_recipe(tmp_path, "none", imitation={**section, "demo_episodes": 10})
+    assert Demonstrations.load(teacher).episodes == 10
+
 
 def test_a_warm_start_skips_the_imitation_section_and_bad_sections_are_refused(
     tmp_path: Path,

@@ -13,6 +13,7 @@ stage killed half-way starts again from the teacher's demonstrations it kept.
 
 from __future__ import annotations
 
+import zipfile
 from pathlib import Path
 from typing import Any
 
@@ -112,8 +113,13 @@ def _is_finished_clone(
 
 
 def _holds_layouts(path: Path, layouts: list[int]) -> bool:
-    """Whether the demonstrations file at ``path`` holds exactly the episodes of ``layouts``."""
-    return set(Demonstrations.load(path).layout_seeds.tolist()) == set(layouts)
+    """Whether the demonstrations file at ``path`` holds exactly the episodes of ``layouts``
+    (not if it does not read as demonstrations: a file cut short by a kill while written)."""
+    try:
+        kept = Demonstrations.load(path)
+    except (OSError, ValueError, zipfile.BadZipFile, EOFError):
+        return False
+    return set(kept.layout_seeds.tolist()) == set(layouts)
 
 
 def _unfinished(run_dir: Path) -> bool:
