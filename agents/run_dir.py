@@ -203,6 +203,16 @@ def is_finished(run_dir: Path, config: dict) -> bool:
     return (Path(run_dir) / MODEL_FILE).is_file() and "timesteps_done" in config
 
 
+def holds_unfinished_run(run_dir: Path) -> bool:
+    """Whether ``run_dir`` holds checkpoints of a run that did not finish (to resume, not to
+    start afresh over)."""
+    if not checkpoints(run_dir):
+        return False
+    config_path = Path(run_dir) / CONFIG_FILE
+    config = yaml.safe_load(config_path.read_text()) if config_path.is_file() else None
+    return not (isinstance(config, dict) and is_finished(run_dir, config))
+
+
 def kept_progress(path: Path, timesteps: int) -> tuple[list[str], list[str]] | None:
     """The header and the complete rows of a ``progress.csv`` logged at or before
     ``timesteps`` (the later rows belong to work a resumed run redoes; a row cut short by a

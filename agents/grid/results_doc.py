@@ -11,6 +11,7 @@ import yaml
 
 from agents.grid.budgets import Budget
 from agents.imitation.clone_stage import CLONE_DIR
+from agents.run_dir import CONFIG_FILE
 from tactile_search.seed_ranges import held_out_seeds
 
 
@@ -49,7 +50,7 @@ def wall_clock_text(run_dir: Path, config: dict) -> str:
     """A run's training wall-clock in minutes: its clone stage's (``<run>/imitation/``, when
     it has one) plus its PPO's, and their sum."""
     ppo = config["wall_clock_seconds"] / 60
-    clone_config = run_dir / CLONE_DIR / "config.yml"
+    clone_config = run_dir / CLONE_DIR / CONFIG_FILE
     if not clone_config.is_file():
         return f"{ppo:.1f}"
     clone = yaml.safe_load(clone_config.read_text())["wall_clock_seconds"] / 60

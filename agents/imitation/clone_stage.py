@@ -26,7 +26,7 @@ from agents.imitation.training import (
     imitate_into,
     run_layouts,
 )
-from agents.run_dir import CONFIG_FILE, MODEL_FILE, checkpoints, is_finished, run_name
+from agents.run_dir import CONFIG_FILE, MODEL_FILE, holds_unfinished_run, run_name
 from agents.sb3.recipes import load_hyperparams
 from agents.sb3.training import train
 from tactile_search import ENV_ID
@@ -122,16 +122,6 @@ def _holds_layouts(path: Path, layouts: list[int]) -> bool:
     return set(kept.layout_seeds.tolist()) == set(layouts)
 
 
-def _unfinished(run_dir: Path) -> bool:
-    """Whether ``run_dir`` holds checkpoints of a run that did not finish (``train``
-    refuses to start afresh over it: resume it, or delete them)."""
-    if not checkpoints(run_dir):
-        return False
-    config_path = run_dir / CONFIG_FILE
-    config = yaml.safe_load(config_path.read_text()) if config_path.is_file() else None
-    return not (isinstance(config, dict) and is_finished(run_dir, config))
-
-
 def train_with_clone_stage(
     algo: str,
     map_mode: str,
@@ -172,7 +162,7 @@ def train_with_clone_stage(
             )
         return train(algo, map_mode, resume=resume, init_from=init_from, **common)
     run_dir = Path(out) / run_name(algo, map_mode, seed)
-    if resume or init_from is not None or from_scratch or _unfinished(run_dir):
+    if resume or init_from is not None or from_scratch or holds_unfinished_run(run_dir):
         # Nothing to clone: the run resumes, starts from another model or from fresh
         # weights (or ``train`` refuses to start afresh over an unfinished run).
         return train(
@@ -183,8 +173,8 @@ def train_with_clone_stage(
             from_scratch=from_scratch,
             **common,
         )
+    # clone_stage reads (and refuses bad) settings before any work.
     section = with_overrides(recipe["imitation"], imitation or {})
-    ImitationSettings.from_recipe(section, seed)  # refuse bad settings before any work
     if n_envs is not None:
         recipe["n_envs"] = int(n_envs)
     clone_dir = clone_stage(

@@ -34,6 +34,7 @@ from agents.run_dir import (
     PROGRESS_FILE,
     checkpoints,
     code_version,
+    holds_unfinished_run,
     is_finished,
     kept_progress,
     machine,
@@ -385,18 +386,15 @@ def _clear_for_fresh_start(run_dir: Path) -> None:
     (its model first, so that a kill before the new one is saved leaves no model beside a
     config that does not describe it); an unfinished run's checkpoints raise ``ValueError``
     (resume it, or delete them)."""
-    config_path = run_dir / CONFIG_FILE
     earlier = checkpoints(run_dir)
-    if earlier:
-        previous = yaml.safe_load(config_path.read_text()) if config_path.is_file() else None
-        if not (isinstance(previous, dict) and is_finished(run_dir, previous)):
-            raise ValueError(
-                f"{run_dir} holds an unfinished run with a checkpoint at "
-                f"{earlier[-1][0]:,} timesteps: resume it (--resume, train(..., "
-                f"resume=True)) or delete {run_dir / CHECKPOINT_DIR} to start afresh"
-            )
-        for _, path in earlier:
-            path.unlink()
+    if holds_unfinished_run(run_dir):
+        raise ValueError(
+            f"{run_dir} holds an unfinished run with a checkpoint at "
+            f"{earlier[-1][0]:,} timesteps: resume it (--resume, train(..., "
+            f"resume=True)) or delete {run_dir / CHECKPOINT_DIR} to start afresh"
+        )
+    for _, path in earlier:
+        path.unlink()
     (run_dir / MODEL_FILE).unlink(missing_ok=True)
 
 
