@@ -55,6 +55,14 @@ def main(argv: list[str] | None = None) -> None:
         help="learned agents' actions: as each recipe says (deterministic_evaluation), the "
         "policy's mode, or sampled (seeded per episode)",
     )
+    parser.add_argument(
+        "--blank-map-channels",
+        nargs="+",
+        default=[],
+        metavar="NAME=VALUE",
+        help="every agent reads these map channels held at a pixel value, such as std=0 "
+        "(agents.evaluation.map_ablation; the channel names of the core's observation layout)",
+    )
     args = parser.parse_args(argv)
     summaries = evaluate(
         [*args.runs, *args.scripted],
@@ -66,6 +74,7 @@ def main(argv: list[str] | None = None) -> None:
         gif_steps=args.gif_steps,
         resume=not args.fresh,
         actions=args.actions,
+        blanked=args.blank_map_channels,
     )
     print(markdown_table(summaries))
 

@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from agents.evaluation.map_ablation import blanked_agent
 from agents.run_dir import run_label
 from agents.scripted import SCRIPTED_AGENTS
 
@@ -25,15 +26,23 @@ def _deterministic(actions: str) -> bool | None:
     return {"recipe": None, "mode": True, "sample": False}[actions]
 
 
-def make_agent(spec: str, actions: str = "recipe") -> tuple[Any, dict[str, Any]]:
+def make_agent(
+    spec: str, actions: str = "recipe", blanked: Sequence[str] = ()
+) -> tuple[Any, dict[str, Any]]:
     """An agent and the settings of the env it is evaluated in (with its ``map``) from a
     scripted name (the GPIS map, and the agent's own ``env_kwargs`` where it has them, such as
     the probe action mode) or a run directory (its recipe's env settings without the
     reward terms: ``agents.sb3.learned.evaluation_env_kwargs``), its actions chosen as
-    ``actions`` says (``ACTIONS``).
+    ``actions`` says (``ACTIONS``), reading its map with the ``blanked`` channels (``NAME=VALUE``
+    each) held at their values (``agents.evaluation.map_ablation``).
 
     A scripted agent that takes a ``seed`` (the random agent) is made afresh for every
     episode, seeded with the episode's layout seed (``SeededPerEpisode``)."""
+    agent, env_kwargs = _make_unblanked(spec, actions)
+    return blanked_agent(agent, env_kwargs["map"], blanked), env_kwargs
+
+
+def _make_unblanked(spec: str, actions: str) -> tuple[Any, dict[str, Any]]:
     if spec in SCRIPTED_AGENTS:
         factory = SCRIPTED_AGENTS[spec]
         env_kwargs = dict(getattr(factory, "env_kwargs", {"map": "gpis"}))
@@ -78,7 +87,8 @@ def unique_names(agents: Sequence[Any], specs: Sequence[str]) -> list[str]:
     for i, (agent, spec) in enumerate(zip(agents, specs, strict=True)):
         if given.count(agent.name) > 1 and spec not in SCRIPTED_AGENTS:
             config = agent.config
-            names[i] = seeded_name(run_label(config), config["map"], config["seed"])
+            suffix = getattr(agent, "name_suffix", "")  # a blanked map's (map_ablation)
+            names[i] = seeded_name(run_label(config), config["map"], config["seed"]) + suffix
     repeated = sorted({name for name in names if names.count(name) > 1})
     if repeated:
         raise ValueError(f"each agent may be evaluated once, got {repeated} more than once")

@@ -67,6 +67,7 @@ def prepare_evaluation(
     seeds: Sequence[int],
     resume: bool,
     actions: str = "recipe",
+    blanked: Sequence[str] = (),
 ) -> tuple[list[tuple[Any, dict[str, Any]]], list[str], dict[str, str], dict]:
     """What an evaluation of ``agent_specs`` on ``seeds`` into ``out`` starts from: each
     agent with its env settings (``make_agent``), their unique names, their fingerprints by
@@ -74,9 +75,9 @@ def prepare_evaluation(
     (name, seed); ``episodes.csv`` is rewritten to hold just those, agents as given, seeds
     ascending."""
     out.mkdir(parents=True, exist_ok=True)
-    made = [make_agent(spec, actions) for spec in agent_specs]
+    made = [make_agent(spec, actions, blanked) for spec in agent_specs]
     names = unique_names([agent for agent, _ in made], agent_specs)
-    fingerprints = code_fingerprints(agent_specs, actions)
+    fingerprints = code_fingerprints(agent_specs, actions, blanked)
     map_modes = [env_kwargs["map"] for _, env_kwargs in made]
     csv_path = out / "episodes.csv"
     done = (
@@ -120,6 +121,7 @@ def evaluate(
     torch_threads: int = 1,
     resume: bool = True,
     actions: str = "recipe",
+    blanked: Sequence[str] = (),
 ) -> list[Summary]:
     """Runs every agent on the same held-out layouts and writes the table, plots and GIFs.
 
@@ -131,6 +133,8 @@ def evaluate(
     ``torch_threads``: one thread predicts a single observation fastest (more threads only
     add synchronisation, and spin against anything else running). ``actions``: how learned
     agents act (``ACTIONS``: as each recipe says, the policy's mode, or sampled).
+    ``blanked``: map channels every agent reads held at a pixel value (``NAME=VALUE`` each,
+    ``agents.evaluation.map_ablation``; the agents' names say so).
 
     Each episode's row is appended to ``<out>/episodes.csv`` (and flushed) as the episode
     ends. With ``resume`` (the default) the rows already there whose agent, map, held-out
@@ -151,7 +155,9 @@ def evaluate(
         torch.set_num_threads(torch_threads)
     out = Path(out)
     seeds = evaluation_seeds(split, episodes, final)
-    made, names, fingerprints, done = prepare_evaluation(agent_specs, out, seeds, resume, actions)
+    made, names, fingerprints, done = prepare_evaluation(
+        agent_specs, out, seeds, resume, actions, blanked
+    )
     csv_path = out / "episodes.csv"
 
     def ordered(name: str) -> list[dict[str, Any]]:

@@ -22,12 +22,15 @@ def _digest(paths: Sequence[Path], root: Path) -> bytes:
     return sha.digest()
 
 
-def code_fingerprints(agent_specs: Sequence[str], actions: str = "recipe") -> dict[str, str]:
+def code_fingerprints(
+    agent_specs: Sequence[str], actions: str = "recipe", blanked: Sequence[str] = ()
+) -> dict[str, str]:
     """What produced an agent's rows, per spec: a hash of the installed tactile_search
     package (its Python files and compiled core), the agents' code (``agents/scripted/``,
     ``agents/rollout.py`` and ``agents/sb3/learned.py``) and, for a learned agent, its
-    ``model.zip``'s contents (``model_digest``). Rows of another fingerprint are not
-    reused."""
+    ``model.zip``'s contents (``model_digest``), and the map channels it reads blanked
+    (``blanked``, with ``agents/evaluation/map_ablation.py``). Rows of another fingerprint are
+    not reused."""
     package = Path(tactile_search.__file__).parent
     env_files = [
         p
@@ -40,7 +43,11 @@ def code_fingerprints(agent_specs: Sequence[str], actions: str = "recipe") -> di
         agents_dir / "rollout.py",
         agents_dir / "sb3" / "learned.py",
     ]
+    if blanked:
+        agent_files.append(agents_dir / "evaluation" / "map_ablation.py")
     base = _digest(env_files, package) + _digest(agent_files, agents_dir)
+    if blanked:
+        base += json.dumps(sorted(blanked)).encode()
     fingerprints = {}
     for spec in agent_specs:
         sha = hashlib.sha256(base)
