@@ -46,6 +46,7 @@ def test_names_split_into_agent_and_training_seed() -> None:
     assert agent_and_seed("recurrent_ppo (none map, seed 0)") == ("recurrent_ppo (none map)", 0)
     assert agent_and_seed("ppo (gpis map)") == ("ppo (gpis map)", None)
     assert agent_and_seed("gpis_planner") == ("gpis_planner", None)
+    assert agent_and_seed("ppo (gpis map, seed 2) [std=0]") == ("ppo (gpis map) [std=0]", 2)
 
 
 def test_a_clear_difference_has_an_interval_around_it_that_excludes_zero() -> None:

@@ -30,9 +30,13 @@ import numpy as np
 from agents.sb3.learned import learned_agent_name
 from tactile_search.benchmark.statistics import wilson_interval
 
-# The form of agents.evaluation.agent_specs.seeded_name:
-# "ppo (gpis map, seed 1)" -> "ppo (gpis map)", seed 1.
-_WITH_SEED = re.compile(r"^(?P<algo>.+) \((?P<map>[^,()]+) map, seed (?P<seed>\d+)\)$")
+# The form of agents.evaluation.agent_specs.seeded_name, with the suffix of a blanked map
+# (agents.evaluation.map_ablation) if any:
+# "ppo (gpis map, seed 1)" -> "ppo (gpis map)", seed 1;
+# "ppo (gpis map, seed 1) [std=0]" -> "ppo (gpis map) [std=0]", seed 1.
+_WITH_SEED = re.compile(
+    r"^(?P<algo>.+) \((?P<map>[^,()]+) map, seed (?P<seed>\d+)\)(?P<suffix>( \[[^\]]+\])?)$"
+)
 
 
 BOOTSTRAP_SAMPLES = 10_000
@@ -48,7 +52,8 @@ def agent_and_seed(name: str) -> tuple[str, int | None]:
     match = _WITH_SEED.match(name)
     if match is None:
         return name, None
-    return learned_agent_name(match["algo"], match["map"]), int(match["seed"])
+    agent = learned_agent_name(match["algo"], match["map"]) + match["suffix"]
+    return agent, int(match["seed"])
 
 
 @dataclasses.dataclass(frozen=True)
