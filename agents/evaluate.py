@@ -53,7 +53,8 @@ def main(argv: list[str] | None = None) -> None:
         choices=ACTIONS,
         default="recipe",
         help="learned agents' actions: as each recipe says (deterministic_evaluation), the "
-        "policy's mode, or sampled (seeded per episode)",
+        "policy's mode, sampled (seeded per episode), or the mode but sampled whenever the last "
+        "probe left the observation unchanged (agents.evaluation.unstuck_mode)",
     )
     parser.add_argument(
         "--blank-map-channels",

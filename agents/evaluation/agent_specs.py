@@ -12,18 +12,20 @@ from typing import Any
 import numpy as np
 
 from agents.evaluation.map_ablation import blanked_agent
+from agents.evaluation.unstuck_mode import UnstuckMode
 from agents.run_dir import run_label
 from agents.scripted import SCRIPTED_AGENTS
 
 # How a learned agent picks its actions: as its recipe says (deterministic_evaluation), the
-# policy's mode, or a sample from it (seeded per episode).
-ACTIONS = ("recipe", "mode", "sample")
+# policy's mode, a sample from it (seeded per episode), or the mode but a sample whenever the
+# last probe left the observation unchanged (agents.evaluation.unstuck_mode).
+ACTIONS = ("recipe", "mode", "sample", "mode_unstuck")
 
 
 def _deterministic(actions: str) -> bool | None:
     if actions not in ACTIONS:
         raise ValueError(f"actions must be one of {ACTIONS}, got {actions!r}")
-    return {"recipe": None, "mode": True, "sample": False}[actions]
+    return {"recipe": None, "mode": True, "sample": False, "mode_unstuck": True}[actions]
 
 
 def make_agent(
@@ -52,6 +54,8 @@ def _make_unblanked(spec: str, actions: str) -> tuple[Any, dict[str, Any]]:
     from agents.sb3.learned import LearnedAgent
 
     agent = LearnedAgent(Path(spec), deterministic=_deterministic(actions))
+    if actions == "mode_unstuck":
+        return UnstuckMode(agent), agent.env_kwargs
     return agent, agent.env_kwargs
 
 

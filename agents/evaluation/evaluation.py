@@ -132,7 +132,8 @@ def evaluate(
     directories of ``agents.train``. ``gif_steps`` caps the steps an example GIF shows.
     ``torch_threads``: one thread predicts a single observation fastest (more threads only
     add synchronisation, and spin against anything else running). ``actions``: how learned
-    agents act (``ACTIONS``: as each recipe says, the policy's mode, or sampled).
+    agents act (``ACTIONS``: as each recipe says, the policy's mode, sampled, or the mode
+    until a probe changes nothing, then sampled).
     ``blanked``: map channels every agent reads held at a pixel value (``NAME=VALUE`` each,
     ``agents.evaluation.map_ablation``; the agents' names say so).
 

@@ -61,5 +61,9 @@ def code_fingerprints(
             if deterministic is None:
                 deterministic = config["hyperparams"].get("deterministic_evaluation", True)
             sha.update(b"deterministic" if deterministic else b"sampled")
+            if actions == "mode_unstuck":
+                sha.update(
+                    b"unstuck" + (agents_dir / "evaluation" / "unstuck_mode.py").read_bytes()
+                )
         fingerprints[spec] = sha.hexdigest()[:16]
     return fingerprints
