@@ -2,6 +2,8 @@
 command)::
 
     python -m agents.comparison docs/results/episodes.csv [--reference AGENT]
+    python -m agents.comparison docs/results/episodes.csv \\
+        --overlap "ppo (gpis map)" gpis_probe_planner    # who fails where
 
 A thin CLI over ``agents.evaluation.comparison``, which documents the statistics.
 """
@@ -11,7 +13,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from agents.evaluation.comparison import comparison_markdown
+from agents.evaluation.comparison import comparison_markdown, overlap_markdown
 from agents.evaluation.episodes_csv import read_episodes_csv
 
 
@@ -19,11 +21,20 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("episodes", type=Path, help="an evaluation's episodes.csv")
     parser.add_argument("--reference", help="the agent the differences are taken from")
+    parser.add_argument(
+        "--overlap",
+        nargs=2,
+        metavar=("A", "B"),
+        help="instead: where agents A and B succeed and fail, layout by layout",
+    )
     args = parser.parse_args(argv)
     rows, _ = read_episodes_csv(args.episodes)
     if not rows:
         raise SystemExit(f"{args.episodes} holds no episode")
-    print(comparison_markdown(rows, args.reference))
+    if args.overlap:
+        print(overlap_markdown(rows, *args.overlap))
+    else:
+        print(comparison_markdown(rows, args.reference))
 
 
 if __name__ == "__main__":

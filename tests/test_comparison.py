@@ -12,6 +12,8 @@ from agents.evaluation.comparison import (
     beats_in_every_seed,
     comparison_markdown,
     difference,
+    overlap,
+    overlap_markdown,
     pool,
 )
 
@@ -122,3 +124,29 @@ def test_a_failure_without_a_tip_counts_as_a_time_out() -> None:
     pooled = pool(agent_results(rows)["ppo (gpis map)"], 200)
     assert pooled.success == 0.25 and pooled.tip_rate == 0.25 and pooled.timeout_rate == 0.5
     assert "| 25.0% | 50.0% | 1.0 | 30.0 |" in comparison_markdown(rows, samples=200)
+
+
+def test_the_overlap_counts_who_succeeds_where_seed_by_seed_and_layout_by_layout() -> None:
+    n = len(LAYOUTS)
+    seed0 = np.arange(n) % 2 == 0  # the even layouts
+    seed1 = np.arange(n) % 4 == 0  # every fourth layout
+    planner = np.arange(n) < n // 2  # the first half
+    rows = (
+        rows_of("ppo (gpis map, seed 0)", seed0)
+        + rows_of("ppo (gpis map, seed 1)", seed1)
+        + rows_of("gpis_planner", planner)
+    )
+    o = overlap(agent_results(rows), "ppo (gpis map)", "gpis_planner")
+    agent = np.stack([seed0, seed1])
+    assert o.pairs == 2 * n
+    assert o.both == (agent & planner).sum()
+    assert o.a_alone == (agent & ~planner).sum()
+    assert o.b_alone == (~agent & planner).sum()
+    assert o.both + o.a_alone + o.b_alone + o.neither == o.pairs
+    assert o.a_always_fails == n // 2  # the odd layouts
+    assert o.of_those_b_fails == n // 4  # the odd layouts of the second half
+    assert f"{o.a_always_fails} of the {n} layouts" in overlap_markdown(
+        rows, "ppo (gpis map)", "gpis_planner"
+    )
+    with pytest.raises(ValueError, match="agents are"):
+        overlap(agent_results(rows), "ppo (gpis map)", "oracle")

@@ -13,7 +13,10 @@ trained with several seeds appears once per seed (``ppo (gpis map, seed 1)``). H
   same layouts for both agents: every agent meets the same ones, so the comparison is
   paired) and, independently for each agent, its training seeds with replacement;
 - ``comparison_markdown``: both as markdown tables, and whether A beats B with
-  non-overlapping (Wilson) intervals in every training seed, seed i against seed i.
+  non-overlapping (Wilson) intervals in every training seed, seed i against seed i;
+- ``overlap``: where A and B succeed and fail, layout by layout: over every (training seed
+  of A, training seed of B, layout), how often both succeed, A alone, B alone, neither; and
+  the layouts that defeat every training seed of A (``overlap_markdown``).
 
 ``python -m agents.comparison docs/results/episodes.csv`` prints the tables.
 """
@@ -267,3 +270,57 @@ def comparison_markdown(
             f"| {every_text} |"
         )
     return "\n".join(lines) + "\n"
+
+
+@dataclasses.dataclass(frozen=True)
+class Overlap:
+    """Agent A's and agent B's outcomes on the same layouts (``overlap``)."""
+
+    a: str
+    b: str
+    pairs: int  # (seed of A, seed of B, layout) triples counted
+    both: int
+    a_alone: int
+    b_alone: int
+    neither: int
+    layouts: int  # layouts both met
+    a_always_fails: int  # layouts that defeat every training seed of A
+    of_those_b_fails: int  # ... and every training seed of B too
+
+
+def overlap(results: dict[str, AgentResults], a: str, b: str) -> Overlap:
+    """Where ``a`` and ``b`` succeed and fail on the layouts both met."""
+    for name in (a, b):
+        if name not in results:
+            raise ValueError(f"agents are {sorted(results)}, got {name!r}")
+    layouts = sorted(set(results[a].layouts) & set(results[b].layouts))
+    if not layouts:
+        raise ValueError(f"{a!r} and {b!r} met no layout in common")
+    sa = results[a].restricted(layouts).success.astype(bool)  # (seeds of a, layouts)
+    sb = results[b].restricted(layouts).success.astype(bool)
+    x, y = sa[:, None, :], sb[None, :, :]  # every seed of a against every seed of b
+    a_fails_always = ~sa.any(axis=0)
+    return Overlap(
+        a=a,
+        b=b,
+        pairs=int(x.shape[0] * y.shape[1] * len(layouts)),
+        both=int((x & y).sum()),
+        a_alone=int((x & ~y).sum()),
+        b_alone=int((~x & y).sum()),
+        neither=int((~x & ~y).sum()),
+        layouts=len(layouts),
+        a_always_fails=int(a_fails_always.sum()),
+        of_those_b_fails=int((a_fails_always & ~sb.any(axis=0)).sum()),
+    )
+
+
+def overlap_markdown(rows: Sequence[dict[str, Any]], a: str, b: str) -> str:
+    """``overlap`` of ``a`` and ``b`` as a markdown table and a sentence."""
+    o = overlap(agent_results(rows), a, b)
+    return (
+        f"| (seed, seed, layout) triples | both succeed | {o.a} alone | {o.b} alone | neither |\n"
+        "|---|---|---|---|---|\n"
+        f"| {o.pairs} | {o.both} | {o.a_alone} | {o.b_alone} | {o.neither} |\n\n"
+        f"{o.a_always_fails} of the {o.layouts} layouts defeat every training seed of {o.a}; "
+        f"{o.of_those_b_fails} of them defeat {o.b} too.\n"
+    )
