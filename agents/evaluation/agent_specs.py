@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from agents.evaluation.ensemble import EnsembleAgent, ensemble_members
 from agents.evaluation.map_ablation import blanked_agent
 from agents.evaluation.unstuck_mode import UnstuckMode
 from agents.run_dir import run_label
@@ -45,6 +46,14 @@ def make_agent(
 
 
 def _make_unblanked(spec: str, actions: str) -> tuple[Any, dict[str, Any]]:
+    members = ensemble_members(spec)
+    if members is not None:
+        if actions not in ("recipe", "mode"):
+            raise ValueError(f"an ensemble acts by the mode of its mean, got actions {actions!r}")
+        from agents.sb3.learned import LearnedAgent
+
+        ensemble = EnsembleAgent([LearnedAgent(m, deterministic=True) for m in members])
+        return ensemble, ensemble.env_kwargs
     if spec in SCRIPTED_AGENTS:
         factory = SCRIPTED_AGENTS[spec]
         env_kwargs = dict(getattr(factory, "env_kwargs", {"map": "gpis"}))

@@ -33,6 +33,7 @@ from pathlib import Path
 from typing import Any
 
 from agents.evaluation.agent_specs import make_agent, unique_names
+from agents.evaluation.ensemble import ensemble_members
 from agents.evaluation.episodes_csv import (
     EPISODE_COLUMNS,
     episode_row,
@@ -190,7 +191,7 @@ def evaluate(
             summaries.append(summarize(name, map_mode, results))
             all_episodes.append(results)
             # agent.name: the agent without its training seed (unique_names adds it to name)
-            if spec not in SCRIPTED_AGENTS:
+            if spec not in SCRIPTED_AGENTS and ensemble_members(spec) is None:
                 runs.append((agent.name, Path(spec)))
             if gifs and agent.name not in shown:
                 shown.add(agent.name)

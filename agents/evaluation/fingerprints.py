@@ -7,9 +7,11 @@ import hashlib
 import json
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import tactile_search  # also registers the environment
 from agents.evaluation.agent_specs import _deterministic
+from agents.evaluation.ensemble import ensemble_members
 from agents.run_dir import model_digest, read_run_config
 from agents.sb3.learned import evaluation_env_kwargs
 from agents.scripted import SCRIPTED_AGENTS
@@ -51,11 +53,13 @@ def code_fingerprints(
     fingerprints = {}
     for spec in agent_specs:
         sha = hashlib.sha256(base)
-        if spec not in SCRIPTED_AGENTS:
-            sha.update(model_digest(Path(spec) / "model.zip"))
-            config = read_run_config(Path(spec))
-            env_kwargs = evaluation_env_kwargs(config)
-            sha.update(json.dumps(env_kwargs, sort_keys=True, default=str).encode())
+        members = ensemble_members(spec)
+        if members is not None:  # every member's model and settings, and how they combine
+            sha.update((agents_dir / "evaluation" / "ensemble.py").read_bytes())
+            for member in members:
+                _add_run(sha, member)
+        elif spec not in SCRIPTED_AGENTS:
+            config = _add_run(sha, Path(spec))
             # Whether its actions are the policy's mode or samples from it.
             deterministic = _deterministic(actions)
             if deterministic is None:
@@ -67,3 +71,13 @@ def code_fingerprints(
                 )
         fingerprints[spec] = sha.hexdigest()[:16]
     return fingerprints
+
+
+def _add_run(sha: Any, run_dir: Path) -> dict[str, Any]:
+    """Adds a learned run's model contents and evaluation env settings to ``sha``; returns
+    the run's config."""
+    sha.update(model_digest(run_dir / "model.zip"))
+    config = read_run_config(run_dir)
+    env_kwargs = evaluation_env_kwargs(config)
+    sha.update(json.dumps(env_kwargs, sort_keys=True, default=str).encode())
+    return config
