@@ -51,6 +51,12 @@ def main(argv: list[str] | None = None) -> None:
         "--mirror", action="store_true", help="clone the mirror image of every state too"
     )
     parser.add_argument(
+        "--teacher",
+        default=defaults.teacher,
+        help="who labels the states: the planner, or ensemble:RUN,RUN,... (trained runs acting "
+        "as one; agents.imitation.teachers)",
+    )
+    parser.add_argument(
         "--label", default="imitation", help="the agent's name in tables (a variant's name)"
     )
     parser.add_argument("--torch-threads", type=int, default=1)
@@ -63,6 +69,7 @@ def main(argv: list[str] | None = None) -> None:
             dagger_episodes=args.dagger_episodes,
             dagger_epochs=args.dagger_epochs,
             mirror=args.mirror,
+            teacher=args.teacher,
             cloning=CloningSettings(
                 epochs=args.epochs,
                 batch_size=args.batch_size,

@@ -1,10 +1,11 @@
-"""The clone stage of a recipe: the planner cloned first, then PPO fine-tunes the clone.
+"""The clone stage of a recipe: the teacher cloned first, then PPO fine-tunes the clone.
 
 A recipe with an ``imitation`` section (``agents/hyperparams/ppo.yml``,
 ``recurrent_ppo.yml``) trains in two stages. ``train_with_clone_stage`` (what
-``agents.train`` and the grid's trials run) first imitates the GPIS probe planner into the
-recipe's network (``agents.imitation.training``: behaviour cloning and DAgger) as a run of its
-own in ``<run_dir>/imitation/``, then trains that clone with PPO
+``agents.train`` and the grid's trials run) first imitates the section's teacher (the GPIS
+probe planner unless it names another, ``agents.imitation.teachers``) into the recipe's
+network (``agents.imitation.training``: behaviour cloning and DAgger) as a run of its own in
+``<run_dir>/imitation/``, then trains that clone with PPO
 (``agents.sb3.training.train``, warm-started from it); the run's ``config.yml`` records the
 section as the clone stage ran it and the clone's digest under ``init_from``. Started again,
 a run reuses a finished clone of the same algorithm, settings, seed and network, and a clone
@@ -13,6 +14,7 @@ stage killed half-way starts again from the teacher's demonstrations it kept.
 
 from __future__ import annotations
 
+import hashlib
 import zipfile
 from pathlib import Path
 from typing import Any
@@ -20,6 +22,7 @@ from typing import Any
 import yaml
 
 from agents.imitation.demonstrations import Demonstrations
+from agents.imitation.teachers import PLANNER
 from agents.imitation.training import (
     ImitationSettings,
     as_mapping,
@@ -35,8 +38,21 @@ from tactile_search import ENV_ID
 #: (``clone_stage``), a run directory of its own inside the PPO run's.
 CLONE_DIR = "imitation"
 #: The teacher's demonstrations a clone stage keeps, so that a stage started again after a
-#: kill clones the same demonstrations without recording them again.
+#: kill clones the same demonstrations without recording them again (the planner's; another
+#: teacher's carry a digest of its spec, ``teacher_demonstrations_file``).
 TEACHER_DEMONSTRATIONS_FILE = "teacher_demonstrations.npz"
+
+
+def teacher_demonstrations_file(teacher: str) -> str:
+    """The file name of ``teacher``'s kept demonstrations: ``TEACHER_DEMONSTRATIONS_FILE`` for
+    the planner, with a digest of the spec for another teacher (an ensemble: a digest of its
+    runs' paths, not of their models: retrain a member and delete the file)."""
+    if teacher == PLANNER:
+        return TEACHER_DEMONSTRATIONS_FILE
+    digest = hashlib.sha256(teacher.encode()).hexdigest()[:12]
+    return TEACHER_DEMONSTRATIONS_FILE.replace(".npz", f"_{digest}.npz")
+
+
 # The recipe keys that fix what a clone is: its network, spaces and environment.
 NETWORK_KEYS = ("policy", "policy_kwargs", "env_kwargs", "n_envs")
 
@@ -75,7 +91,7 @@ def clone_stage(
         print(f"reusing the clone in {clone_dir}", flush=True)
         return clone_dir
     (clone_dir / MODEL_FILE).unlink(missing_ok=True)  # another recipe's clone
-    teacher_file = clone_dir / TEACHER_DEMONSTRATIONS_FILE
+    teacher_file = clone_dir / teacher_demonstrations_file(settings.teacher)
     teacher_layouts = run_layouts(seed, settings)[: settings.demo_episodes]
     if teacher_file.is_file() and not _holds_layouts(teacher_file, teacher_layouts):
         teacher_file.unlink()

@@ -1,10 +1,11 @@
 """Demonstrations: the teacher's probe for every state of an episode, with what the policy sees
 there and the return that followed.
 
-The teacher is ``GpisProbePlanner``: observation-only, so it can label any state, not only
-those it reaches. ``record`` runs episodes in which either the teacher acts (behaviour
+The teacher is the GPIS probe planner by default, or an ensemble of trained runs
+(``agents.imitation.teachers``): observation-only, so it can label any state, not only those
+it reaches. ``record`` runs episodes in which either the teacher acts (behaviour
 cloning's demonstrations) or a student acts while the teacher's belief follows the student's
-probes and labels each state (DAgger). A student with another map than the teacher's GPIS map
+probes and labels each state (DAgger). A student with another map than the teacher's
 sees its own observation: the episode runs in two envs of the same layout stepped with the
 same probes, the teacher reading one and the student the other (the scene does not depend on
 the map mode; ``record`` checks the two hands stay in the same pose).
@@ -19,8 +20,8 @@ from typing import Any
 
 import numpy as np
 
+from agents.imitation.teachers import PLANNER, make_teacher
 from agents.sb3.anchor import OBSERVATION_PREFIX, observations_in
-from agents.scripted.gpis_probe_planner import GpisProbePlanner
 from tactile_search import CupboardSearchEnv
 
 #: The fields with one row per probe beside the observations, in the constructor's order.
@@ -158,9 +159,11 @@ def record(
     env_kwargs: dict[str, Any],
     gamma: float,
     student: Callable[[int], Student] | None = None,
+    teacher: str = PLANNER,
 ) -> Demonstrations:
-    """The teacher's labels over one episode per layout seed in the env of ``env_kwargs``
-    (the student's settings: its map, reward and action mode, which must be the probe mode).
+    """The labels of ``teacher`` (a spec, ``agents.imitation.teachers``; the GPIS probe planner
+    by default) over one episode per layout seed in the env of ``env_kwargs`` (the student's
+    settings: its map, reward and action mode, which must be the probe mode).
 
     Without ``student`` the teacher acts. With one, ``student(layout_seed)`` gives the
     episode's policy (observation -> probe) and its probes are carried out while the teacher
@@ -172,15 +175,15 @@ def record(
             f"{env_kwargs.get('action_mode')!r}"
         )
     student_env = CupboardSearchEnv(**env_kwargs)
-    teacher_kwargs = {**env_kwargs, **GpisProbePlanner.env_kwargs}
+    labeller = make_teacher(teacher)
+    teacher_kwargs = {**env_kwargs, **labeller.env_kwargs}
     twin = teacher_kwargs != env_kwargs
     teacher_env = CupboardSearchEnv(**teacher_kwargs) if twin else student_env
-    teacher = GpisProbePlanner()
     parts = []
     try:
         for layout_seed in layout_seeds:
             parts.append(
-                _episode(int(layout_seed), student_env, teacher_env, teacher, gamma, student)
+                _episode(int(layout_seed), student_env, teacher_env, labeller, gamma, student)
             )
     finally:
         student_env.close()
@@ -193,7 +196,7 @@ def _episode(
     layout_seed: int,
     student_env: CupboardSearchEnv,
     teacher_env: CupboardSearchEnv,
-    teacher: GpisProbePlanner,
+    teacher: Any,
     gamma: float,
     student: Callable[[int], Student] | None,
 ) -> Demonstrations:

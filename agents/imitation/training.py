@@ -29,6 +29,7 @@ import numpy as np
 from agents.imitation.cloning import CloningSettings, agreement, clone
 from agents.imitation.demonstrations import Demonstrations, record
 from agents.imitation.mirror import check_symmetric, mirrored
+from agents.imitation.teachers import PLANNER, check_teacher
 from agents.run_dir import (
     MODEL_FILE,
     code_version,
@@ -42,7 +43,6 @@ from agents.sb3.anchor import DEMONSTRATIONS_FILE
 from agents.sb3.recipes import algorithm_class, load_hyperparams, new_model
 from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS, make_training_env
 from agents.scripted.geometry import Geometry
-from agents.scripted.gpis_probe_planner import GpisProbePlanner
 from tactile_search import ENV_ID, CupboardSearchEnv
 from tactile_search._validation import as_count
 
@@ -67,6 +67,9 @@ class ImitationSettings:
     dagger_epochs: int = 15
     #: Clone each demonstrated state and its mirror image (``agents.imitation.mirror``).
     mirror: bool = False
+    #: Who labels the states (``agents.imitation.teachers``): the GPIS probe planner, or
+    #: ``ensemble:RUN,RUN,...`` (trained runs acting as one: distillation).
+    teacher: str = PLANNER
 
     def __post_init__(self) -> None:
         as_count("demo_episodes", self.demo_episodes, minimum=2)
@@ -75,6 +78,7 @@ class ImitationSettings:
         as_count("dagger_epochs", self.dagger_epochs)
         if not isinstance(self.mirror, bool):
             raise TypeError(f"mirror must be a bool, got {type(self.mirror).__name__}")
+        check_teacher(self.teacher)
 
     @classmethod
     def from_recipe(cls, section: Any, seed: int) -> ImitationSettings:
@@ -194,7 +198,7 @@ def imitate_into(
                 f"{len(teacher_layouts)} (seed {seed}); give another file"
             )
     else:
-        demonstrations = record(teacher_layouts, env_kwargs, gamma)
+        demonstrations = record(teacher_layouts, env_kwargs, gamma, teacher=settings.teacher)
         if demonstrations_file is not None:
             demonstrations.save(demonstrations_file)
     train, held_out = demonstrations.split_by_layout(HELD_OUT, seed)
@@ -213,7 +217,6 @@ def imitate_into(
         "code": code_version(),
         "machine": machine(),
         "imitation": {
-            "teacher": GpisProbePlanner.name,
             **settings.record(),
             "held_out_layouts": held_out.episodes,
             "rounds": [],
@@ -244,7 +247,13 @@ def imitate_into(
         start = settings.demo_episodes + (index - 1) * settings.dagger_episodes
         round_layouts = layouts[start : start + settings.dagger_episodes]
         torch.manual_seed(seed * 1000 + index)
-        labelled = record(round_layouts, env_kwargs, gamma, student=_sampling_student(model))
+        labelled = record(
+            round_layouts,
+            env_kwargs,
+            gamma,
+            student=_sampling_student(model),
+            teacher=settings.teacher,
+        )
         probes += len(labelled)
         gathered = Demonstrations.concatenate([gathered, augmented(labelled)])
         again = dataclasses.replace(

@@ -1,0 +1,68 @@
+"""Who labels the states a student clones: the GPIS probe planner, or an ensemble of trained
+probe-mode runs (distillation).
+
+A teacher is named by a spec, the ``teacher`` key of a recipe's ``imitation`` section:
+
+- ``gpis_probe_planner`` (the default): the scripted planner
+  (``agents.scripted.gpis_probe_planner``), which keeps a belief of the probes made;
+- ``ensemble:RUN,RUN,...``: training seeds of one learned agent acting as one
+  (``agents.evaluation.ensemble``), the mode of their averaged probe probabilities. They
+  read only the observation, so they label any state a student visits; distilling them into
+  one policy keeps what averaging the seeds gains (issue 24's measurement: the GPIS seeds'
+  ensemble passes the planner on the validation layouts where each seed alone does not).
+
+Both act through the probe interface: ``reset(env, observation, info)``, ``act(observation)``,
+``follow(action)`` (the probe the env carries out instead, in DAgger), and ``env_kwargs``: the
+settings of the env the teacher reads (its map), a twin of the student's when they differ.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from agents.evaluation.ensemble import EnsembleAgent, ensemble_members
+from agents.scripted.gpis_probe_planner import GpisProbePlanner
+
+PLANNER = GpisProbePlanner.name
+
+
+def check_teacher(spec: Any) -> str:
+    """``spec`` if it names a teacher (the planner or an ``ensemble:`` of two runs or more);
+    ``TypeError`` / ``ValueError`` naming what was expected otherwise. The ensemble's runs are
+    read when the teacher is made (``make_teacher``)."""
+    if not isinstance(spec, str):
+        raise TypeError(f"teacher must be a string, got {type(spec).__name__}")
+    if spec != PLANNER and ensemble_members(spec) is None:
+        raise ValueError(f"teacher must be {PLANNER!r} or 'ensemble:RUN,RUN,...', got {spec!r}")
+    return spec
+
+
+class EnsembleTeacher:
+    """An ``EnsembleAgent`` as a teacher: it reads nothing but the observation, so following
+    another agent's probe changes nothing it keeps."""
+
+    def __init__(self, spec: str) -> None:
+        from agents.sb3.learned import LearnedAgent
+
+        members = ensemble_members(spec) or []
+        self._ensemble = EnsembleAgent([LearnedAgent(m, deterministic=True) for m in members])
+        self.name = self._ensemble.name
+        self.env_kwargs: dict[str, Any] = dict(self._ensemble.env_kwargs)
+
+    def reset(self, env: Any, observation: dict, info: dict) -> None:
+        self._ensemble.reset(env, observation, info)
+
+    def act(self, observation: dict) -> np.ndarray:
+        return np.asarray(self._ensemble.act(observation), dtype=np.int64)
+
+    def follow(self, action: np.ndarray) -> None:
+        del action  # observation-only: nothing to update
+
+
+def make_teacher(spec: str) -> Any:
+    """The teacher ``spec`` names (``check_teacher``)."""
+    if check_teacher(spec) == PLANNER:
+        return GpisProbePlanner()
+    return EnsembleTeacher(spec)
