@@ -46,13 +46,10 @@ def make_agent(
 
 
 def _make_unblanked(spec: str, actions: str) -> tuple[Any, dict[str, Any]]:
-    members = ensemble_members(spec)
-    if members is not None:
+    if ensemble_members(spec) is not None:
         if actions not in ("recipe", "mode"):
             raise ValueError(f"an ensemble acts by the mode of its mean, got actions {actions!r}")
-        from agents.sb3.learned import LearnedAgent
-
-        ensemble = EnsembleAgent([LearnedAgent(m, deterministic=True) for m in members])
+        ensemble = EnsembleAgent.from_spec(spec)
         return ensemble, ensemble.env_kwargs
     if spec in SCRIPTED_AGENTS:
         factory = SCRIPTED_AGENTS[spec]

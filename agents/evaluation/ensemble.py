@@ -63,6 +63,17 @@ class EnsembleAgent:
         self.map_mode: str = first.map_mode
         self.name = f"{first.name[:-1]}, ensemble of {len(members)})"
 
+    @classmethod
+    def from_spec(cls, spec: str) -> EnsembleAgent:
+        """The ensemble of an ``ensemble:RUN,RUN,...`` spec, each run loaded to act by its
+        mode; ``ValueError`` for another spec."""
+        from agents.sb3.learned import LearnedAgent
+
+        members = ensemble_members(spec)
+        if members is None:
+            raise ValueError(f"an ensemble is {ENSEMBLE_PREFIX}RUN,RUN[,...], got {spec!r}")
+        return cls([LearnedAgent(member, deterministic=True) for member in members])
+
     def reset(self, env: Any, observation: dict, info: dict) -> None:
         for member in self.members:
             member.reset(env, observation, info)

@@ -17,6 +17,10 @@ from agents.sb3.learned import evaluation_env_kwargs
 from agents.scripted import SCRIPTED_AGENTS
 
 
+# What the evaluation-time variants of an agent (a blanked map, mode_unstuck) are built on.
+WRAPPER_FILE = "wrapped_agent.py"
+
+
 def _digest(paths: Sequence[Path], root: Path) -> bytes:
     sha = hashlib.sha256()
     for path in sorted(paths):
@@ -46,7 +50,7 @@ def code_fingerprints(
         agents_dir / "sb3" / "learned.py",
     ]
     if blanked:
-        agent_files.append(agents_dir / "evaluation" / "map_ablation.py")
+        agent_files += [agents_dir / "evaluation" / f for f in ("map_ablation.py", WRAPPER_FILE)]
     base = _digest(env_files, package) + _digest(agent_files, agents_dir)
     if blanked:
         base += json.dumps(sorted(blanked)).encode()
@@ -66,9 +70,8 @@ def code_fingerprints(
                 deterministic = config["hyperparams"].get("deterministic_evaluation", True)
             sha.update(b"deterministic" if deterministic else b"sampled")
             if actions == "mode_unstuck":
-                sha.update(
-                    b"unstuck" + (agents_dir / "evaluation" / "unstuck_mode.py").read_bytes()
-                )
+                for name in ("unstuck_mode.py", WRAPPER_FILE):
+                    sha.update(b"unstuck" + (agents_dir / "evaluation" / name).read_bytes())
         fingerprints[spec] = sha.hexdigest()[:16]
     return fingerprints
 

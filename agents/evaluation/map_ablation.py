@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from agents.evaluation.wrapped_agent import WrappedAgent
 from tactile_search.envs.observation import MAP_CHANNELS
 
 PIXEL_RANGE = (0, 255)
@@ -60,7 +61,7 @@ def blanking_label(blanked: Mapping[str, int]) -> str:
     return ", ".join(f"{name}={pixel}" for name, pixel in sorted(blanked.items()))
 
 
-class MapChannelsBlanked:
+class MapChannelsBlanked(WrappedAgent):
     """``agent`` reading its map with the ``blanked`` channels (name -> pixel value) held at
     their values; named ``"<agent> [std=0]"``. Works with any agent of ``agents.rollout``'s
     protocol (``reset(env, observation, info)``, ``act(observation)``)."""
@@ -68,17 +69,11 @@ class MapChannelsBlanked:
     def __init__(self, agent: Any, map_mode: str, blanked: Mapping[str, int]) -> None:
         if not blanked:
             raise ValueError("give at least one channel to blank")
-        self._agent = agent
+        super().__init__(agent)
         self._channels = channel_indices(map_mode, blanked)
         #: What the agent's name gains: `` [std=0]``.
         self.name_suffix = f" [{blanking_label(blanked)}]"
-        self.name: str = agent.name + self.name_suffix
-
-    def __getattr__(self, attribute: str) -> Any:
-        # The wrapped agent's other attributes (a learned agent's config, env_kwargs).
-        if attribute == "_agent":
-            raise AttributeError(attribute)
-        return getattr(self._agent, attribute)
+        self.name += self.name_suffix
 
     def _blank(self, observation: dict) -> dict:
         blanked_map = np.array(observation["map"], copy=True)

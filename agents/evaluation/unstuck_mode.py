@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from agents.evaluation.wrapped_agent import WrappedAgent
 from tactile_search.envs.observation import PROPRIO
 
 # Proprio entries that change with time alone: not a sign that the last probe did anything.
@@ -35,22 +36,15 @@ def unchanged_but_the_clock(before: dict, now: dict) -> bool:
     return True
 
 
-class UnstuckMode:
+class UnstuckMode(WrappedAgent):
     """``agent`` (a ``LearnedAgent``) by its mode, sampling a probe whenever its last probe
     left the observation unchanged but for the clock. Named as ``agent``: an evaluation that
     uses it says so by its ``actions`` (``mode_unstuck``) and keeps its rows apart by their
     fingerprint."""
 
     def __init__(self, agent: Any) -> None:
-        self._agent = agent
-        self.name: str = agent.name
+        super().__init__(agent)
         self._previous: dict | None = None
-
-    def __getattr__(self, attribute: str) -> Any:
-        # The wrapped agent's other attributes (config, env_kwargs, map_mode).
-        if attribute == "_agent":
-            raise AttributeError(attribute)
-        return getattr(self._agent, attribute)
 
     def reset(self, env: Any, observation: dict, info: dict) -> None:
         self._agent.deterministic = False  # seeds the episode's sampling stream

@@ -39,23 +39,12 @@ def check_teacher(spec: Any) -> str:
     return spec
 
 
-class EnsembleTeacher:
+class EnsembleTeacher(EnsembleAgent):
     """An ``EnsembleAgent`` as a teacher: it reads nothing but the observation, so following
-    another agent's probe changes nothing it keeps."""
-
-    def __init__(self, spec: str) -> None:
-        from agents.sb3.learned import LearnedAgent
-
-        members = ensemble_members(spec) or []
-        self._ensemble = EnsembleAgent([LearnedAgent(m, deterministic=True) for m in members])
-        self.name = self._ensemble.name
-        self.env_kwargs: dict[str, Any] = dict(self._ensemble.env_kwargs)
-
-    def reset(self, env: Any, observation: dict, info: dict) -> None:
-        self._ensemble.reset(env, observation, info)
+    another agent's probe changes nothing it keeps; its labels are probe indices."""
 
     def act(self, observation: dict) -> np.ndarray:
-        return np.asarray(self._ensemble.act(observation), dtype=np.int64)
+        return np.asarray(super().act(observation), dtype=np.int64)
 
     def follow(self, action: np.ndarray) -> None:
         del action  # observation-only: nothing to update
@@ -65,4 +54,4 @@ def make_teacher(spec: str) -> Any:
     """The teacher ``spec`` names (``check_teacher``)."""
     if check_teacher(spec) == PLANNER:
         return GpisProbePlanner()
-    return EnsembleTeacher(spec)
+    return EnsembleTeacher.from_spec(spec)
