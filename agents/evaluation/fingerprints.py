@@ -16,7 +16,6 @@ from agents.run_dir import model_digest, read_run_config
 from agents.sb3.learned import evaluation_env_kwargs
 from agents.scripted import SCRIPTED_AGENTS
 
-
 # What the evaluation-time variants of an agent (a blanked map, mode_unstuck) are built on.
 WRAPPER_FILE = "wrapped_agent.py"
 
