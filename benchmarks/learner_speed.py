@@ -20,16 +20,18 @@ cost per sample pass (µs: the update's time over ``n_epochs`` x probes), parame
 map grid the encoder keeps. With gymnasium's MuJoCo envs installed (the ``bench`` extra),
 each round also runs ``Pusher-v5`` with random actions for a few seconds and prints the
 trained probes/s over Pusher-v5's steps/s (the budgets of ``docs/DESIGN.md`` §5 are such
-ratios). ``--bf16`` adds, per variant, one minibatch update with and without bfloat16
-autocast, side by side (it pays only on CPUs with AMX; the line says whether this one has
-it).
+ratios). The header says whether the CPU has AMX: a variant with
+``bfloat16_updates=true`` runs its update under bfloat16 autocast only there
+(``agents.sb3.bfloat16``).
 
 Variants are named ``NAME`` or ``NAME:key=value,key=value`` (recipe keys, values in YAML),
-e.g. ``space_to_depth:n_epochs=5``. Run from the repo root::
+e.g. ``space_to_depth:n_epochs=5`` or ``recipe:bfloat16_updates=true``. Run from the repo root::
 
     python -m benchmarks.learner_speed       # recipe, impala_factorised, space_to_depth
     python -m benchmarks.learner_speed --variants recipe impala_factorised nature_cnn \\
-        spatial_softmax mlp_no_map --timesteps 2048 --rounds 3 --torch-threads 1 --bf16
+        spatial_softmax mlp_no_map --timesteps 2048 --rounds 3 --torch-threads 1
+    python -m benchmarks.learner_speed --variants recipe recipe:bfloat16_updates=true \\
+        recipe:bfloat16_updates=true,n_epochs=5
 
 Like ``agents/train.py``, it sets ``OMP_WAIT_POLICY=PASSIVE`` (unless set) before torch
 loads. ``--torch-threads 1 --env-threads 1`` is how the ``full`` budget trains each seed.
@@ -52,8 +54,9 @@ from typing import Any
 
 import yaml
 
+from agents.sb3.bfloat16 import cpu_has_amx_bf16
 from agents.sb3.encoders import MapExtractor, map_feature_shape
-from agents.sb3.recipes import algorithm_class, load_hyperparams, new_model
+from agents.sb3.recipes import load_hyperparams, new_model, training_class
 from agents.sb3.training_env import make_training_env
 from benchmarks.arguments import positive_int
 
@@ -160,7 +163,7 @@ def build_model(recipe: dict[str, Any], env_threads: int | None) -> Any:
     env = make_training_env(
         recipe["env_kwargs"], n_envs=recipe["n_envs"], seed=0, threads=env_threads
     )
-    return new_model(algorithm_class("ppo"), recipe, TimedVecEnv(env), seed=0)
+    return new_model(training_class("ppo", recipe), recipe, TimedVecEnv(env), seed=0)
 
 
 def rollout_timer() -> Any:
@@ -225,42 +228,6 @@ def describe(model: Any) -> dict[str, Any]:
     }
 
 
-def has_amx() -> bool:
-    """Whether this CPU has AMX tiles for bfloat16 (``amx_bf16`` in /proc/cpuinfo)."""
-    try:
-        return "amx_bf16" in Path("/proc/cpuinfo").read_text()
-    except OSError:
-        return False
-
-
-def bf16_update_ratio(model: Any, rounds: int = 5) -> float:
-    """The median time of one minibatch update (the recipe's batch, forward, backward, Adam
-    step) under bfloat16 autocast over the same in float32, alternating."""
-    import torch
-
-    policy = model.policy
-    batch = next(model.rollout_buffer.get(model.batch_size))
-    actions = batch.actions  # MultiDiscrete: as PPO.train passes them
-
-    def update(autocast: bool) -> float:
-        start = time.perf_counter()
-        with torch.autocast("cpu", dtype=torch.bfloat16, enabled=autocast):
-            values, log_prob, entropy = policy.evaluate_actions(batch.observations, actions)
-            loss = -log_prob.float().mean() + values.float().pow(2).mean()
-            loss = loss - 0.01 * entropy.float().mean()
-        policy.optimizer.zero_grad()
-        loss.backward()
-        policy.optimizer.step()
-        return time.perf_counter() - start
-
-    update(False), update(True)  # warm-up
-    times = {False: [], True: []}
-    for _ in range(rounds):
-        for autocast in (False, True):
-            times[autocast].append(update(autocast))
-    return statistics.median(times[True]) / statistics.median(times[False])
-
-
 def print_summary(measured: list[Measured], pusher: list[float]) -> None:
     reference = next((m for m in measured if m.label == REFERENCE_VARIANT), measured[0])
     print(
@@ -305,7 +272,6 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--rounds", type=positive_int, default=3, help="alternating rounds")
     parser.add_argument("--torch-threads", type=positive_int, default=1)
     parser.add_argument("--env-threads", type=positive_int, default=1)
-    parser.add_argument("--bf16", action="store_true", help="also time bfloat16 autocast")
     args = parser.parse_args(argv)
     import torch
 
@@ -318,7 +284,7 @@ def main(argv: list[str] | None = None) -> None:
         f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY')}, torch threads "
         f"{args.torch_threads}, env threads {args.env_threads}; {args.timesteps} probes per "
         f"variant per round, {args.rounds} rounds; torch {torch.__version__}, CPU capability "
-        f"{torch.backends.cpu.get_cpu_capability()}, AMX {'yes' if has_amx() else 'no'}",
+        f"{torch.backends.cpu.get_cpu_capability()}, AMX {'yes' if cpu_has_amx_bf16() else 'no'}",
         flush=True,
     )
     for m in measured:  # warm-up: the first rollout and update, excluded
@@ -340,10 +306,6 @@ def main(argv: list[str] | None = None) -> None:
             pusher.append(rate)
             print(f"  round {round_index} {PUSHER_ID:>28}: {rate:,.0f} steps/s", flush=True)
     print_summary(measured, pusher)
-    if args.bf16:
-        print("\nbfloat16 autocast, one minibatch update, time over float32's (median):")
-        for m in measured:
-            print(f"{m.label:>28}: {bf16_update_ratio(m.model):.2f}")
     for m in measured:
         m.model.get_env().close()
 

@@ -22,6 +22,16 @@ from torch import nn
 from torch.distributions import Categorical
 
 
+class Float32Linear(nn.Linear):
+    """``nn.Linear`` that computes in float32 even under autocast: the layer that makes a
+    policy's logits, so a bfloat16 update (``agents.sb3.bfloat16``) does not round PPO's
+    probability ratios. Its parameters are a ``Linear``'s, under the same names."""
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        with torch.autocast("cpu", enabled=False):
+            return super().forward(x.float())
+
+
 class JointCategoricalDistribution(MultiCategoricalDistribution):
     """One categorical over the product of ``action_dims``; actions are their index tuples
     (row-major, as ``numpy.ravel_multi_index``)."""
@@ -34,10 +44,13 @@ class JointCategoricalDistribution(MultiCategoricalDistribution):
         self._dims = dims
 
     def proba_distribution_net(self, latent_dim: int) -> nn.Module:
-        return nn.Linear(latent_dim, math.prod(self._dims))
+        return Float32Linear(latent_dim, math.prod(self._dims))
 
     def proba_distribution(self, action_logits: torch.Tensor) -> JointCategoricalDistribution:
-        self.distribution = Categorical(logits=action_logits)  # type: ignore[assignment]
+        # float32 under autocast too: log-probabilities of ~2,600 probes in bfloat16 would
+        # round PPO's ratios by a few percent.
+        with torch.autocast("cpu", enabled=False):
+            self.distribution = Categorical(logits=action_logits.float())  # type: ignore[assignment]
         return self
 
     def joint_index(self, actions: torch.Tensor) -> torch.Tensor:

@@ -27,6 +27,7 @@ RUN_KEYS = (
     "anchor_weight",
     "anchor_decay_timesteps",
     "imitation",
+    "bfloat16_updates",
 )
 
 
@@ -41,6 +42,21 @@ def algorithm_class(algo: str) -> type:
 
         return RecurrentPPO
     raise ValueError(f"algo must be one of {ALGORITHMS}, got {algo!r}")
+
+
+def training_class(algo: str, recipe: dict[str, Any]) -> type:
+    """The class ``recipe`` trains ``algo`` with: ``algorithm_class(algo)``, its update under
+    bfloat16 autocast where the CPU has AMX if the recipe's ``bfloat16_updates`` is true
+    (``agents.sb3.bfloat16``)."""
+    cls = algorithm_class(algo)
+    wanted = recipe.get("bfloat16_updates", False)
+    if not isinstance(wanted, bool):
+        raise TypeError(f"bfloat16_updates must be a bool, got {type(wanted).__name__} {wanted!r}")
+    if not wanted:
+        return cls
+    from agents.sb3.bfloat16 import bfloat16_update_class
+
+    return bfloat16_update_class(cls)
 
 
 def load_hyperparams(

@@ -28,7 +28,7 @@ import torch as th
 from torch import nn
 
 from agents.sb3.encoders import ImpalaStage, MapExtractor, _positive_ints
-from agents.sb3.joint_probe_policy import JointProbePolicy
+from agents.sb3.joint_probe_policy import Float32Linear, JointProbePolicy
 from tactile_search._validation import as_count
 
 
@@ -139,7 +139,7 @@ class SpatialProbeHead(nn.Module):
         self.global_dim, self.probes, self.point_features = global_dim, probes, point_features
         self.context = nn.Linear(global_dim, 32)
         self.mlp = nn.Sequential(
-            nn.Linear(point_features + 32, 64), nn.ReLU(), nn.Linear(64, sweeps)
+            nn.Linear(point_features + 32, 64), nn.ReLU(), Float32Linear(64, sweeps)
         )
 
     def forward(self, features: th.Tensor) -> th.Tensor:

@@ -45,13 +45,14 @@ from agents.run_dir import (
     versions,
     write_run_config,
 )
+from agents.sb3.bfloat16 import update_precision
 from agents.sb3.callbacks import make_logger, rollout_checkpoints, wall_clock_limit
 from agents.sb3.recipes import (
     ALGORITHMS,
-    algorithm_class,
     load_hyperparams,
     load_objects,
     new_model,
+    training_class,
 )
 from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS, make_training_env
 from tactile_search import ENV_ID
@@ -230,12 +231,17 @@ def train(
 
     run_dir.mkdir(parents=True, exist_ok=True)
     torch.set_num_threads(torch_threads)
-    cls = algorithm_class(algo)
+    cls = training_class(algo, config["hyperparams"])
     if resume:
         model, env, logger, prior_seconds = _resumed_model(
             run_dir, cls, config, seed, env_id, env_threads, code
         )
+        if update_precision(cls) != config.get("update_precision", "float32"):
+            config["resumes"][-1]["update_precision"] = update_precision(cls)
     else:
+        # The update's precision: bfloat16 only with the recipe's bfloat16_updates on a CPU
+        # with AMX (agents.sb3.bfloat16), else float32.
+        config["update_precision"] = update_precision(cls)
         model, env, logger = _new_model(run_dir, cls, config, seed, env_id, env_threads, init_from)
         prior_seconds = 0.0
     model.set_logger(logger)

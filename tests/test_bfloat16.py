@@ -1,0 +1,112 @@
+"""The PPO update in bfloat16 where the CPU has AMX (``agents.sb3.bfloat16``): AMX is read
+from the CPU's flags, the update (and only the update) runs under autocast, the probe
+policies' logits and log-probabilities stay float32 under it, and a model trained so saves
+and loads as a plain PPO."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import torch
+
+pytest.importorskip("stable_baselines3")
+
+from agents.sb3 import bfloat16
+from agents.sb3.bfloat16 import (
+    BFloat16Updates,
+    bfloat16_update_class,
+    cpu_has_amx_bf16,
+    update_precision,
+)
+from agents.sb3.joint_probe_policy import Float32Linear, JointCategoricalDistribution
+from agents.sb3.recipes import load_hyperparams, load_objects, new_model, training_class
+from agents.sb3.training_env import make_training_env
+
+
+def test_amx_is_read_from_the_cpus_flags_not_from_a_substring(tmp_path: Path) -> None:
+    cpuinfo = tmp_path / "cpuinfo"
+    cpuinfo.write_text("processor\t: 0\nflags\t\t: fpu avx512_bf16 amx_tile amx_bf16 sse\n")
+    assert cpu_has_amx_bf16(cpuinfo)
+    # avx512_bf16 (bfloat16 dot products without AMX tiles) is not AMX
+    cpuinfo.write_text("processor\t: 0\nflags\t\t: fpu avx512_bf16 amx_bf16x sse\n")
+    assert not cpu_has_amx_bf16(cpuinfo)
+    assert not cpu_has_amx_bf16(tmp_path / "missing")
+
+
+class RecordsAutocast:
+    """Stands in for an SB3 algorithm: ``train`` records the autocast state it ran in."""
+
+    def train(self) -> None:
+        self.seen = (torch.is_autocast_enabled("cpu"), torch.get_autocast_dtype("cpu"))
+
+    def collect_rollouts(self) -> bool:
+        return torch.is_autocast_enabled("cpu")
+
+
+def test_the_update_alone_runs_under_bfloat16_autocast_and_only_with_amx() -> None:
+    fast = bfloat16_update_class(RecordsAutocast, cpu_has_amx=True)
+    algorithm = fast()
+    algorithm.train()
+    assert algorithm.seen == (True, torch.bfloat16)
+    assert not algorithm.collect_rollouts()  # the rollouts stay float32
+    assert not torch.is_autocast_enabled("cpu")  # and autocast ends with the update
+    assert issubclass(fast, BFloat16Updates) and issubclass(fast, RecordsAutocast)
+    assert bfloat16_update_class(RecordsAutocast, cpu_has_amx=True) is fast  # one class
+    assert bfloat16_update_class(RecordsAutocast, cpu_has_amx=False) is RecordsAutocast
+    assert (update_precision(fast), update_precision(RecordsAutocast)) == ("bfloat16", "float32")
+    with pytest.raises(TypeError, match="SB3 algorithm class"):
+        bfloat16_update_class(RecordsAutocast(), cpu_has_amx=True)
+
+
+def test_a_recipe_asks_for_bfloat16_updates_with_a_bool(monkeypatch: pytest.MonkeyPatch) -> None:
+    from stable_baselines3 import PPO
+
+    assert training_class("ppo", {}) is PPO
+    assert training_class("ppo", {"bfloat16_updates": False}) is PPO
+    monkeypatch.setattr(bfloat16, "cpu_has_amx_bf16", lambda: True)
+    fast = training_class("ppo", {"bfloat16_updates": True})
+    assert issubclass(fast, PPO) and update_precision(fast) == "bfloat16"
+    monkeypatch.setattr(bfloat16, "cpu_has_amx_bf16", lambda: False)
+    assert training_class("ppo", {"bfloat16_updates": True}) is PPO  # no AMX: float32
+    with pytest.raises(TypeError, match="bfloat16_updates must be a bool, got str"):
+        training_class("ppo", {"bfloat16_updates": "yes"})
+
+
+def test_probe_logits_and_log_probabilities_stay_float32_under_autocast() -> None:
+    torch.manual_seed(0)
+    layer = Float32Linear(16, 2 * 3 * 4)
+    latent = torch.randn(5, 16)
+    actions = torch.tensor([[0, 1, 2], [1, 2, 3], [0, 0, 0], [1, 0, 3], [0, 2, 1]])
+    distribution = JointCategoricalDistribution([2, 3, 4])
+    exact = distribution.proba_distribution(layer(latent)).log_prob(actions)
+    with torch.autocast("cpu", dtype=torch.bfloat16):
+        logits = layer(latent)
+        log_prob = distribution.proba_distribution(logits).log_prob(actions)
+        entropy = distribution.entropy()
+        rounded = torch.nn.functional.linear(latent, layer.weight, layer.bias)
+    assert logits.dtype == log_prob.dtype == entropy.dtype == torch.float32
+    torch.testing.assert_close(log_prob, exact, rtol=0, atol=0)
+    assert rounded.dtype == torch.bfloat16  # what the plain layer would have given
+    assert list(layer.state_dict()) == ["weight", "bias"]  # a Linear's parameters
+
+
+def test_ppo_trains_with_bfloat16_updates_and_loads_as_plain_ppo(tmp_path: Path) -> None:
+    from stable_baselines3 import PPO
+
+    recipe = load_hyperparams("ppo", "gpis")
+    recipe.update(n_steps=8, batch_size=16, n_epochs=1)
+    env = make_training_env(recipe["env_kwargs"], 2, seed=0, threads=1)
+    model = new_model(bfloat16_update_class(PPO, cpu_has_amx=True), recipe, env, seed=0)
+    before = [p.detach().clone() for p in model.policy.parameters()]
+    model.learn(16)
+    after = list(model.policy.parameters())
+    assert all(p.dtype == torch.float32 and torch.isfinite(p).all() for p in after)
+    assert any(not torch.equal(b, a) for b, a in zip(before, after, strict=True))  # it learned
+    observation = env.reset()
+    action, _ = model.predict(observation, deterministic=True)
+    model.save(tmp_path / "model.zip")
+    loaded = PPO.load(tmp_path / "model.zip", device="cpu", custom_objects=load_objects(recipe))
+    np.testing.assert_array_equal(loaded.predict(observation, deterministic=True)[0], action)
+    env.close()
