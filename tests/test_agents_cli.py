@@ -391,6 +391,19 @@ def test_the_probe_trace_counts_waits_revisits_and_lane_change_costs():
     assert figures["motions per probe, lane changed"] == pytest.approx((70 + 79) / 2)
 
 
+def test_the_probe_trace_table_shows_a_dash_where_there_was_nothing_to_count():
+    from agents.evaluation.probe_trace import Probe, TracedEpisode, summary, summary_markdown
+
+    # Timed out after two probes in different lanes: no same-lane probe to average.
+    episodes = [
+        TracedEpisode(1, False, False, (Probe(4, 0, 0, 30, False), Probe(5, 0, 0, 70, False)))
+    ]
+    table = summary_markdown({"run": summary(episodes)})
+    assert "| motions per probe, same lane | - |" in table
+    assert "| motions per probe, lane changed | 70 |" in table
+    assert "nan" not in table
+
+
 def test_the_probe_trace_cli_gives_each_run_its_own_column(
     trained_runs: dict[str, Path], tmp_path: Path
 ):

@@ -132,7 +132,7 @@ def summary(episodes: Sequence[TracedEpisode]) -> dict[str, float]:
 
 
 def summary_markdown(summaries: dict[str, dict[str, float]]) -> str:
-    """One column per run."""
+    """One column per run; a figure with nothing to count (NaN in ``summary``) is "-"."""
     names = list(summaries)
     keys = list(next(iter(summaries.values())))
     lines = ["| | " + " | ".join(names) + " |", "|---" * (len(names) + 1) + "|"]
@@ -141,6 +141,9 @@ def summary_markdown(summaries: dict[str, dict[str, float]]) -> str:
         for name in names:
             value = summaries[name][key]
             share = key in ("success", "first-probe success", "timed out") or "share" in key
-            cells.append(f"{value:.1%}" if share else f"{value:,.1f}".removesuffix(".0"))
+            if np.isnan(value):  # nothing to count: no such probe, or no timed-out episode
+                cells.append("-")
+            else:
+                cells.append(f"{value:.1%}" if share else f"{value:,.1f}".removesuffix(".0"))
         lines.append(f"| {key} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
