@@ -232,16 +232,17 @@ def train(
     run_dir.mkdir(parents=True, exist_ok=True)
     torch.set_num_threads(torch_threads)
     cls = training_class(algo, config["hyperparams"])
+    # The update's precision: bfloat16 only with the recipe's bfloat16_updates on a CPU with
+    # AMX (agents.sb3.bfloat16), else float32; a resume on another CPU records its own.
+    precision = update_precision(cls)
     if resume:
         model, env, logger, prior_seconds = _resumed_model(
             run_dir, cls, config, seed, env_id, env_threads, code
         )
-        if update_precision(cls) != config.get("update_precision", "float32"):
-            config["resumes"][-1]["update_precision"] = update_precision(cls)
+        if precision != config.get("update_precision", "float32"):
+            config["resumes"][-1]["update_precision"] = precision
     else:
-        # The update's precision: bfloat16 only with the recipe's bfloat16_updates on a CPU
-        # with AMX (agents.sb3.bfloat16), else float32.
-        config["update_precision"] = update_precision(cls)
+        config["update_precision"] = precision
         model, env, logger = _new_model(run_dir, cls, config, seed, env_id, env_threads, init_from)
         prior_seconds = 0.0
     model.set_logger(logger)
