@@ -46,6 +46,7 @@ from agents.evaluation.report import markdown_table, plot_learning_curves, plot_
 from agents.rollout import evaluate_agent
 from agents.run_dir import write_atomically
 from agents.scripted import SCRIPTED_AGENTS
+from tactile_search._validation import as_bool
 from tactile_search.benchmark.statistics import Summary, summarize
 from tactile_search.seed_ranges import held_out_seeds
 
@@ -149,8 +150,7 @@ def evaluate(
     """
     if not agent_specs:
         raise ValueError("give at least one agent (a scripted name or a run directory)")
-    if not isinstance(resume, bool):
-        raise TypeError(f"resume must be a bool, got {type(resume).__name__}")
+    as_bool("resume", resume)
     if any(spec not in SCRIPTED_AGENTS for spec in agent_specs):
         import torch
 

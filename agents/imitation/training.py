@@ -44,7 +44,7 @@ from agents.sb3.recipes import algorithm_class, load_hyperparams, new_model
 from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS, make_training_env
 from agents.scripted.geometry import Geometry
 from tactile_search import ENV_ID, CupboardSearchEnv
-from tactile_search._validation import as_count
+from tactile_search._validation import as_bool, as_count
 
 #: The share of the teacher's layouts held out to measure agreement.
 HELD_OUT = 0.1
@@ -76,8 +76,7 @@ class ImitationSettings:
         as_count("dagger_rounds", self.dagger_rounds, minimum=0)
         as_count("dagger_episodes", self.dagger_episodes)
         as_count("dagger_epochs", self.dagger_epochs)
-        if not isinstance(self.mirror, bool):
-            raise TypeError(f"mirror must be a bool, got {type(self.mirror).__name__}")
+        as_bool("mirror", self.mirror)
         check_teacher(self.teacher)
 
     @classmethod

@@ -48,7 +48,7 @@ from stable_baselines3.common.preprocessing import get_flattened_obs_dim
 from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
 from torch import nn
 
-from tactile_search._validation import as_count
+from tactile_search._validation import as_bool, as_count
 
 __all__ = [
     "ImpalaMapExtractor",
@@ -105,8 +105,7 @@ class MapExtractor(BaseFeaturesExtractor):
         if not isinstance(map_key, str):
             raise TypeError(f"map_key must be a str, got {type(map_key).__name__} {map_key!r}")
         proprio_features = as_count("proprio_features", proprio_features, minimum=0)
-        if not isinstance(channels_last, bool):
-            raise TypeError(f"channels_last must be a bool, got {type(channels_last).__name__}")
+        channels_last = as_bool("channels_last", channels_last)
         # BaseFeaturesExtractor asserts features_dim > 0; the real value is set below (as
         # SB3's CombinedExtractor does).
         super().__init__(observation_space, features_dim=1)
@@ -362,10 +361,7 @@ class SpatialSoftmaxMapExtractor(MapExtractor):
                 f"strides must have one entry per conv, like channels {self.channels}: "
                 f"got {self.strides}"
             )
-        if not isinstance(learn_temperature, bool):
-            raise TypeError(
-                f"learn_temperature must be a bool, got {type(learn_temperature).__name__}"
-            )
+        learn_temperature = as_bool("learn_temperature", learn_temperature)
         self.learn_temperature = learn_temperature
         super().__init__(
             observation_space,

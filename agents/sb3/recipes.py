@@ -12,6 +12,7 @@ import yaml
 
 from agents.run_dir import ALGORITHMS
 from tactile_search import ENV_ID
+from tactile_search._validation import as_bool
 
 HYPERPARAMS_DIR = Path(__file__).parents[1] / "hyperparams"
 
@@ -49,10 +50,7 @@ def training_class(algo: str, recipe: dict[str, Any]) -> type:
     bfloat16 autocast where the CPU has AMX if the recipe's ``bfloat16_updates`` is true
     (``agents.sb3.bfloat16``)."""
     cls = algorithm_class(algo)
-    wanted = recipe.get("bfloat16_updates", False)
-    if not isinstance(wanted, bool):
-        raise TypeError(f"bfloat16_updates must be a bool, got {type(wanted).__name__} {wanted!r}")
-    if not wanted:
+    if not as_bool("bfloat16_updates", recipe.get("bfloat16_updates", False)):
         return cls
     from agents.sb3.bfloat16 import bfloat16_update_class
 

@@ -56,7 +56,7 @@ from agents.sb3.recipes import (
 )
 from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS, make_training_env
 from tactile_search import ENV_ID
-from tactile_search._validation import as_count
+from tactile_search._validation import as_bool, as_count
 from tactile_search.envs.config import MAP_MODES
 
 # A checkpoint at the first rollout boundary after every this many env steps (with the
@@ -194,8 +194,7 @@ def train(
         resume,
         init_from,
     )
-    if not isinstance(from_scratch, bool):
-        raise TypeError(f"from_scratch must be a bool, got {type(from_scratch).__name__}")
+    as_bool("from_scratch", from_scratch)
     if init_from is not None:
         init_from = model_file(Path(init_from))
     run_dir = Path(out) / run_name(algo, map_mode, seed)
@@ -338,8 +337,7 @@ def _check_arguments(
         raise ValueError(f"max_minutes must be > 0, got {max_minutes}")
     as_count("checkpoint_every", checkpoint_every)
     as_count("keep_checkpoints", keep_checkpoints)
-    if not isinstance(resume, bool):
-        raise TypeError(f"resume must be a bool, got {type(resume).__name__}")
+    as_bool("resume", resume)
     if init_from is not None and resume:
         raise ValueError("init_from starts a new run; a resumed run keeps its own weights")
 

@@ -51,6 +51,15 @@ def require_finite(name: str, array: NDArray[np.float64]) -> None:
         raise ValueError(f"{name} must be finite, got {array[index]} at index {index}")
 
 
+def as_bool(name: str, value: Any) -> bool:
+    """``value`` if it is a ``bool`` (numpy's included), else ``TypeError``: the one check of
+    a flag in the project (``resume``, ``mirror``, ``bfloat16_updates``...), so that 0, 1 or
+    "false" from a YAML recipe or a command line never pass as one."""
+    if not isinstance(value, bool | np.bool_):
+        raise TypeError(f"{name} must be a bool, got {type(value).__name__}: {value!r}")
+    return bool(value)
+
+
 def as_real(name: str, value: Any, *, minimum: float | None = None) -> float:
     """A finite real scalar, optionally at least ``minimum``."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
