@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from agents.command_args import parse_setting
 from agents.evaluation.agent_specs import ACTIONS
 from agents.evaluation.evaluation import evaluate
 from agents.evaluation.report import markdown_table
@@ -64,6 +65,16 @@ def main(argv: list[str] | None = None) -> None:
         help="every agent reads these map channels held at a pixel value, such as std=0 "
         "(agents.evaluation.map_ablation; the channel names of the core's observation layout)",
     )
+    parser.add_argument(
+        "--env-settings",
+        nargs="+",
+        type=parse_setting,
+        default=[],
+        metavar="KEY=VALUE",
+        help="environment settings every agent is evaluated with over its own, values as YAML, "
+        "such as fast_free_motion=true (CupboardSearchEnv's keyword arguments; the agents' "
+        "names end with them)",
+    )
     args = parser.parse_args(argv)
     summaries = evaluate(
         [*args.runs, *args.scripted],
@@ -76,6 +87,7 @@ def main(argv: list[str] | None = None) -> None:
         resume=not args.fresh,
         actions=args.actions,
         blanked=args.blank_map_channels,
+        env_settings=dict(args.env_settings),
     )
     print(markdown_table(summaries))
 

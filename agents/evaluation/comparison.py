@@ -33,12 +33,13 @@ import numpy as np
 from agents.sb3.learned import learned_agent_name
 from tactile_search.benchmark.statistics import wilson_interval
 
-# The form of agents.evaluation.agent_specs.seeded_name, with the suffix of a blanked map
-# (agents.evaluation.map_ablation) if any:
+# The form of agents.evaluation.agent_specs.seeded_name, with the suffixes of a blanked map
+# (agents.evaluation.map_ablation) and of changed env settings (agents.evaluation.evaluation)
+# if any:
 # "ppo (gpis map, seed 1)" -> "ppo (gpis map)", seed 1;
 # "ppo (gpis map, seed 1) [std=0]" -> "ppo (gpis map) [std=0]", seed 1.
 _WITH_SEED = re.compile(
-    r"^(?P<algo>.+) \((?P<map>[^,()]+) map, seed (?P<seed>\d+)\)(?P<suffix>( \[[^\]]+\])?)$"
+    r"^(?P<algo>.+) \((?P<map>[^,()]+) map, seed (?P<seed>\d+)\)(?P<suffix>( \[[^\]]+\])*)$"
 )
 
 

@@ -28,7 +28,8 @@ its model's contents) matches, and a GIF only if the provenance stored in it doe
 from __future__ import annotations
 
 import csv
-from collections.abc import Sequence
+import json
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -48,6 +49,7 @@ from agents.run_dir import write_atomically
 from agents.scripted import SCRIPTED_AGENTS
 from tactile_search._validation import as_bool
 from tactile_search.benchmark.statistics import Summary, summarize
+from tactile_search.envs.config import SETTINGS
 from tactile_search.seed_ranges import held_out_seeds
 
 
@@ -70,16 +72,23 @@ def prepare_evaluation(
     resume: bool,
     actions: str = "recipe",
     blanked: Sequence[str] = (),
+    env_settings: Mapping[str, Any] | None = None,
 ) -> tuple[list[tuple[Any, dict[str, Any]]], list[str], dict[str, str], dict]:
     """What an evaluation of ``agent_specs`` on ``seeds`` into ``out`` starts from: each
-    agent with its env settings (``make_agent``), their unique names, their fingerprints by
-    spec, and the rows of ``out/episodes.csv`` it reuses (none without ``resume``), by
-    (name, seed); ``episodes.csv`` is rewritten to hold just those, agents as given, seeds
-    ascending."""
+    agent with its env settings (``make_agent``, then ``env_settings`` over them), their
+    unique names (with the ``env_settings``' label), their fingerprints by spec, and the rows
+    of ``out/episodes.csv`` it reuses (none without ``resume``), by (name, seed);
+    ``episodes.csv`` is rewritten to hold just those, agents as given, seeds ascending."""
     out.mkdir(parents=True, exist_ok=True)
-    made = [make_agent(spec, actions, blanked) for spec in agent_specs]
+    env_settings = checked_env_settings(env_settings)
+    made = [
+        (agent, {**env_kwargs, **env_settings})
+        for agent, env_kwargs in (make_agent(spec, actions, blanked) for spec in agent_specs)
+    ]
     names = unique_names([agent for agent, _ in made], agent_specs)
-    fingerprints = code_fingerprints(agent_specs, actions, blanked)
+    if env_settings:
+        names = [f"{name} [{env_settings_label(env_settings)}]" for name in names]
+    fingerprints = code_fingerprints(agent_specs, actions, blanked, env_settings)
     map_modes = [env_kwargs["map"] for _, env_kwargs in made]
     csv_path = out / "episodes.csv"
     done = (
@@ -90,6 +99,30 @@ def prepare_evaluation(
     kept = [done[name, seed] for name in names for seed in seeds if (name, seed) in done]
     write_episodes_csv(csv_path, kept)
     return made, names, fingerprints, done
+
+
+def checked_env_settings(env_settings: Mapping[str, Any] | None) -> dict[str, Any]:
+    """``env_settings`` as a dict, each key a setting of the environment's core
+    (``tactile_search.envs.config.SETTINGS``), else ``ValueError`` naming it; ``map`` and
+    ``action_mode`` are refused, being what an agent was made for. The values are checked
+    where every setting is, when the environment is made."""
+    settings = dict(env_settings or {})
+    known = {entry["key"] for entry in SETTINGS}
+    for key in settings:
+        if key in ("map", "action_mode"):
+            raise ValueError(f"env_settings may not change {key!r}: each agent is made for its own")
+        if key not in known:
+            raise ValueError(
+                f"env_settings: {key!r} is not a setting of the environment "
+                "(tactile_search.CupboardSearchEnv's keyword arguments)"
+            )
+    return settings
+
+
+def env_settings_label(env_settings: Mapping[str, Any]) -> str:
+    """``{"fast_free_motion": True}`` -> ``"fast_free_motion=true"`` (keys sorted, values as
+    JSON): the suffix that names an agent evaluated under changed settings."""
+    return ", ".join(f"{key}={json.dumps(env_settings[key])}" for key in sorted(env_settings))
 
 
 def example_gif(
@@ -124,6 +157,7 @@ def evaluate(
     resume: bool = True,
     actions: str = "recipe",
     blanked: Sequence[str] = (),
+    env_settings: Mapping[str, Any] | None = None,
 ) -> list[Summary]:
     """Runs every agent on the same held-out layouts and writes the table, plots and GIFs.
 
@@ -138,6 +172,9 @@ def evaluate(
     until a probe changes nothing, then sampled).
     ``blanked``: map channels every agent reads held at a pixel value (``NAME=VALUE`` each,
     ``agents.evaluation.map_ablation``; the agents' names say so).
+    ``env_settings``: settings of the environment's core every agent is evaluated with over
+    its own (such as ``{"fast_free_motion": True}``; not ``map`` or ``action_mode``); the
+    agents' names end with them in brackets.
 
     Each episode's row is appended to ``<out>/episodes.csv`` (and flushed) as the episode
     ends. With ``resume`` (the default) the rows already there whose agent, map, held-out
@@ -158,7 +195,7 @@ def evaluate(
     out = Path(out)
     seeds = evaluation_seeds(split, episodes, final)
     made, names, fingerprints, done = prepare_evaluation(
-        agent_specs, out, seeds, resume, actions, blanked
+        agent_specs, out, seeds, resume, actions, blanked, env_settings
     )
     csv_path = out / "episodes.csv"
 

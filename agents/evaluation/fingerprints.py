@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -28,14 +28,17 @@ def _digest(paths: Sequence[Path], root: Path) -> bytes:
 
 
 def code_fingerprints(
-    agent_specs: Sequence[str], actions: str = "recipe", blanked: Sequence[str] = ()
+    agent_specs: Sequence[str],
+    actions: str = "recipe",
+    blanked: Sequence[str] = (),
+    env_settings: Mapping[str, Any] | None = None,
 ) -> dict[str, str]:
     """What produced an agent's rows, per spec: a hash of the installed tactile_search
     package (its Python files and compiled core), the agents' code (``agents/scripted/``,
     ``agents/rollout.py`` and ``agents/sb3/learned.py``) and, for a learned agent, its
     ``model.zip``'s contents (``model_digest``), and the map channels it reads blanked
-    (``blanked``, with ``agents/evaluation/map_ablation.py``). Rows of another fingerprint are
-    not reused."""
+    (``blanked``, with ``agents/evaluation/map_ablation.py``), and the environment's settings
+    changed for every agent (``env_settings``). Rows of another fingerprint are not reused."""
     package = Path(tactile_search.__file__).parent
     env_files = [
         p
@@ -53,6 +56,8 @@ def code_fingerprints(
     base = _digest(env_files, package) + _digest(agent_files, agents_dir)
     if blanked:
         base += json.dumps(sorted(blanked)).encode()
+    if env_settings:
+        base += json.dumps(sorted(env_settings.items())).encode()
     fingerprints = {}
     for spec in agent_specs:
         sha = hashlib.sha256(base)
