@@ -1,0 +1,49 @@
+//! Random probes on GPIS episodes (probe mode, default settings), resets included as a
+//! training loop runs them, for `valgrind --tool=callgrind` instruction counts of the probe
+//! mode's environment (`docs/DESIGN.md` §9.1):
+//!
+//! `cargo build --release -p env_core --example random_probes &&
+//!  valgrind --tool=callgrind target/release/examples/random_probes 200`
+//!
+//! The first argument is the number of probes (layouts 1,000,000.., a new one whenever an
+//! episode ends; the probes drawn from a fixed seed); `fast` as the second turns on the fast
+//! path of free motion. It prints the episodes, the contacts, the GPIS rows the touches added and the summed
+//! reward, so two
+//! builds can be checked to do the same work.
+
+use env_core::episode::{ActionMode, Episode, EpisodeConfig, MapMode};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+fn main() {
+    let mut args = std::env::args().skip(1);
+    let probes: u64 = args
+        .next()
+        .map(|a| a.parse().expect("the number of probes"))
+        .unwrap_or(200);
+    let fast = args.next().is_some_and(|a| a == "fast");
+    let mut config = EpisodeConfig::default();
+    config.map.mode = MapMode::Gpis;
+    config.action_mode = ActionMode::Probe;
+    config.scene.physics.fast_free_motion = fast;
+    let mut seed = 1_000_000;
+    let mut episode = Episode::new(config, seed).expect("episode starts");
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let (mut episodes, mut contacts, mut rows, mut reward) = (1u64, 0usize, 0usize, 0.0f64);
+    for _ in 0..probes {
+        let counts = episode.config().probe.counts();
+        let action = counts.map(|n| rng.random_range(0..n) as f64);
+        let info = episode.step(action).expect("probe");
+        contacts += info.contacts;
+        rows += info.rows_added;
+        reward += info.reward;
+        if info.terminated || info.truncated {
+            seed += 1;
+            episode.reset(seed).expect("reset");
+            episodes += 1;
+        }
+    }
+    println!(
+        "episodes {episodes}, contacts {contacts}, GPIS rows added {rows}, summed reward {reward:.6}"
+    );
+}
