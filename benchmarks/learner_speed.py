@@ -24,8 +24,10 @@ ratios). The header says whether the CPU has AMX: a variant with
 ``bfloat16_updates=true`` runs its update under bfloat16 autocast only there
 (``agents.sb3.bfloat16``).
 
-Variants are named ``NAME`` or ``NAME:key=value,key=value`` (recipe keys, values in YAML),
-e.g. ``space_to_depth:n_epochs=5`` or ``recipe:bfloat16_updates=true``. Run from the repo root::
+Variants are named ``NAME`` or ``NAME:key=value,key=value`` (recipe keys, values in YAML;
+``env_kwargs.KEY`` sets one environment setting), e.g. ``space_to_depth:n_epochs=5``,
+``recipe:bfloat16_updates=true`` or ``recipe:env_kwargs.fast_free_motion=false`` (the
+environment before its fast path of free motion). Run from the repo root::
 
     python -m benchmarks.learner_speed       # recipe, impala_factorised, space_to_depth
     python -m benchmarks.learner_speed --variants recipe impala_factorised nature_cnn \\
@@ -138,7 +140,14 @@ def variant_recipe(name: str, overrides: dict[str, Any]) -> dict[str, Any]:
         if extractor is not None:
             policy_kwargs["features_extractor_class"] = extractor
         recipe["policy_kwargs"] = policy_kwargs
-    recipe.update(overrides)
+    for key, value in overrides.items():
+        section, dot, setting = key.partition(".")
+        if dot and section == "env_kwargs":  # one env setting, the recipe's others kept
+            recipe["env_kwargs"] = {**recipe.get("env_kwargs", {}), setting: value}
+        elif dot:
+            raise ValueError(f"only env_kwargs.KEY overrides one key of a section, got {key!r}")
+        else:
+            recipe[key] = value
     return recipe
 
 

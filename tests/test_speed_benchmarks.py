@@ -42,6 +42,15 @@ def test_each_variant_trains_its_own_encoder_on_the_recipes_settings() -> None:
             assert faster[key] == recipe[key], key
 
 
+def test_an_env_kwargs_override_sets_one_setting_and_keeps_the_recipes_others() -> None:
+    recipe = learner_speed.variant_recipe("recipe", {})
+    stepped = learner_speed.variant_recipe("recipe", {"env_kwargs.fast_free_motion": False})
+    assert stepped["env_kwargs"] == {**recipe["env_kwargs"], "fast_free_motion": False}
+    assert "fast_free_motion" not in recipe["env_kwargs"]
+    with pytest.raises(ValueError, match=r"only env_kwargs\.KEY"):
+        learner_speed.variant_recipe("recipe", {"policy_kwargs.net_arch": [64]})
+
+
 def test_arrangements_run_the_real_training_command() -> None:
     args = argparse.Namespace(map="gpis", timesteps=64, hyperparams=None)
     command = train_arrangement.train_command(args, seed=3, threads=2, out="runs/x")
