@@ -25,12 +25,17 @@ driven by random actions from its own seeded ``action_space``. It measures, per 
   random steps, every step timed; the envs take turns seed by seed. Our reset is also
   given in Pusher-v5 steps (its median reset time over Pusher-v5's median step time).
 
+``--variant KEY=VALUE ...`` adds each of our envs once more with those settings, in the same
+rounds (``--variant fast_free_motion=false``: every wrist command stepped, the environment
+before its fast path of free motion became the default).
+
 Needs MuJoCo (gymnasium's MuJoCo envs): ``pip install -e '.[bench]'`` (``make bench`` does).
 
 Usage (from the repository root)::
 
     python -m benchmarks.peer_envs [--rounds 5] [--steps 3000] [--maps gpis none]
-        [--probe-maps gpis none] [--probes 400] [--reset-seeds 50] [--json results/peer_envs.json]
+        [--probe-maps gpis none] [--probes 400] [--reset-seeds 50] [--variant KEY=VALUE ...]
+        [--json results/peer_envs.json]
 """
 
 from __future__ import annotations
@@ -50,6 +55,7 @@ from typing import Any
 
 import gymnasium as gym
 
+from agents.command_args import parse_setting
 from tactile_search import ENV_ID  # importing the package registers the environment
 from tactile_search.envs.config import MAP_MODES
 from tactile_search.seed_ranges import VALIDATION, held_out_seeds
@@ -113,19 +119,29 @@ def header() -> dict[str, Any]:
     }
 
 
-def make_subjects(maps: list[str], probe_maps: list[str], seed: int) -> list[Subject]:
+def make_subjects(
+    maps: list[str], probe_maps: list[str], seed: int, variant: dict[str, Any] | None = None
+) -> list[Subject]:
     """Our env once per map mode in the wrist mode and once per probe map mode in the probe
-    mode, then the MuJoCo peers; each reset and its action space seeded with ``seed``."""
-    subjects = [Subject(f"{OUR_NAME} map={m}", gym.make(ENV_ID, map=m), True) for m in maps]
-    subjects += [
-        Subject(
-            f"{OUR_NAME} map={m} probe",
-            gym.make(ENV_ID, map=m, action_mode="probe"),
-            True,
-            probe=True,
-        )
-        for m in probe_maps
-    ]
+    mode (each once more with the ``variant`` settings, if any, its label ending with them),
+    then the MuJoCo peers; each reset and its action space seeded with ``seed``."""
+    variants: list[dict[str, Any]] = [{}, variant] if variant else [{}]
+    subjects = []
+    for settings in variants:
+        suffix = "".join(f" {key}={value}" for key, value in sorted(settings.items()))
+        subjects += [
+            Subject(f"{OUR_NAME} map={m}{suffix}", gym.make(ENV_ID, map=m, **settings), True)
+            for m in maps
+        ]
+        subjects += [
+            Subject(
+                f"{OUR_NAME} map={m} probe{suffix}",
+                gym.make(ENV_ID, map=m, action_mode="probe", **settings),
+                True,
+                probe=True,
+            )
+            for m in probe_maps
+        ]
     subjects += [Subject(env_id, gym.make(env_id), False) for env_id in PEER_IDS]
     for subject in subjects:
         subject.env.action_space.seed(seed)
@@ -295,6 +311,15 @@ def main(argv: list[str] | None = None) -> None:
     )
     parser.add_argument("--warmup", type=int, default=300, help="untimed steps per env first")
     parser.add_argument("--seed", type=int, default=0, help="seed of the envs and actions")
+    parser.add_argument(
+        "--variant",
+        nargs="+",
+        type=parse_setting,
+        default=[],
+        metavar="KEY=VALUE",
+        help="our envs once more with these settings, side by side (values as YAML), e.g. "
+        "fast_free_motion=false: the environment before its fast path of free motion",
+    )
     parser.add_argument("--json", type=Path, default=None, help="write the figures here")
     args = parser.parse_args(argv)
     if min(args.rounds, args.steps, args.probes, args.reset_seeds) < 1 or args.warmup < 0:
@@ -308,7 +333,7 @@ def main(argv: list[str] | None = None) -> None:
         f"{meta['cpu_count']} CPUs ({meta['usable_cpus']} usable); shared, noisy machine: "
         f"figures are medians from one run"
     )
-    subjects = make_subjects(args.maps, args.probe_maps, args.seed)
+    subjects = make_subjects(args.maps, args.probe_maps, args.seed, dict(args.variant))
     throughput(subjects, args.rounds, args.steps, args.probes, args.warmup)
     call_times(subjects, args.reset_seeds)
     reference = next(s for s in subjects if s.label == REFERENCE_ID)
