@@ -5,6 +5,7 @@
 mod common;
 use common::observe;
 
+use env_core::episode::metrics::{footprint_mask, interior_iou};
 use env_core::episode::probe::{ActionMode, Phase, ProbeController};
 use env_core::episode::{Command, Episode, EpisodeBatch, EpisodeConfig, EpisodeError, MapMode};
 use env_core::episode::{StepInfo, PROPRIO_LEN};
@@ -93,6 +94,25 @@ fn a_probe_is_exactly_its_controllers_wrist_motions_and_stops_by_its_rules() {
                 assert!((info.reward_step - summed.reward_step).abs() < 1e-12);
                 assert_eq!(info.contacts, summed.contacts);
                 assert_eq!(info.steps, moving.last_info().steps);
+                // The rest is the last motion's: the IoU too, which a probe computes once,
+                // after its last motion, and the wrist replay after every motion.
+                let last = moving.last_info();
+                assert_eq!(
+                    info.iou.to_bits(),
+                    last.iou.to_bits(),
+                    "map {map:?} seed {seed}"
+                );
+                assert_eq!(info.target_distance, last.target_distance);
+                assert_eq!(info.jar_displacement, last.jar_displacement);
+                assert_eq!(info.gpis_rows, last.gpis_rows);
+                assert_eq!(probing.last_info().iou.to_bits(), info.iou.to_bits());
+                // And it is the map's IoU with where the jars are now, from scratch.
+                if let Some(gpis) = probing.gpis() {
+                    let mut truth = Vec::new();
+                    footprint_mask(probing.grid(), &probing.scene().jar_states(), &mut truth);
+                    let now = interior_iou(gpis.mean_grid(), &truth);
+                    assert_eq!(info.iou.to_bits(), now.to_bits(), "map {map:?} seed {seed}");
+                }
                 // Why it stopped: arrived, ended, blocked, a touch after pressing on, or the
                 // next motion would press on a touch.
                 let (now, next) = control.next_motion(moving.scene().hand_pose(), &probe);

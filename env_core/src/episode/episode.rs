@@ -106,7 +106,8 @@ impl Episode {
         let camera = self.camera_xy();
         self.map.reset(self.scene.first_slice(), camera)?;
         self.add_touch();
-        let (info, _) = self.measure();
+        let (mut info, _) = self.measure();
+        info.iou = self.current_iou();
         self.last_info = info;
         Ok(())
     }
@@ -173,8 +174,18 @@ impl Episode {
         info.target_distance = self
             .approach
             .distance(fingertip(finger.x, finger.y, finger.yaw, length));
-        // Resting jars do not move and most steps add nothing to the map: the truth mask and
-        // the IoU are recomputed only when a jar moved or the map changed.
+        info.gpis_rows = self.map.rows();
+        // `info.iou` is the step's, filled in once its last motion is made (`current_iou`).
+        (info, added)
+    }
+
+    /// The map's IoU with the jars' true footprints now. Resting jars do not move and most
+    /// steps add nothing to the map: the truth mask and the IoU are recomputed only when a
+    /// jar moved or the map changed, and only once per step (a probe's wrist motions report
+    /// their last motion's IoU, so the motions before it need none). Cost O(G) when
+    /// recomputed, O(jars) otherwise.
+    fn current_iou(&mut self) -> f64 {
+        let jars = self.scene.jar_states();
         let poses = jars.iter().map(|jar| {
             let [x, y, z] = jar.position;
             let [qx, qy, qz, qw] = jar.rotation;
@@ -186,12 +197,10 @@ impl Episode {
             self.truth_poses.extend(poses);
             self.iou = None;
         }
-        info.gpis_rows = self.map.rows();
-        info.iou = match self.iou {
+        match self.iou {
             Some(iou) => iou,
             None => *self.iou.insert(self.map.iou(&self.truth)),
-        };
-        (info, added)
+        }
     }
 
     /// Takes one step. In the `wrist` action mode `action` is in [−1, 1]³ (dx, dy, dyaw),
@@ -221,10 +230,13 @@ impl Episode {
             return Err(EpisodeError::Ended);
         }
         self.last_motions.clear();
-        match self.config.action_mode {
-            ActionMode::Wrist => self.move_wrist(action),
-            ActionMode::Probe => self.probe(action),
-        }
+        let mut info = match self.config.action_mode {
+            ActionMode::Wrist => self.move_wrist(action)?,
+            ActionMode::Probe => self.probe(action)?,
+        };
+        info.iou = self.current_iou();
+        self.last_info = info;
+        Ok(info)
     }
 
     /// One probe: the controller's wrist motions until the probe is done, the finger
@@ -256,11 +268,11 @@ impl Episode {
                 break;
             }
         }
-        self.last_info = total;
         Ok(total)
     }
 
-    /// One wrist motion (the `wrist` mode's step).
+    /// One wrist motion (the `wrist` mode's step), its info without the IoU (`advance` adds
+    /// the step's).
     fn move_wrist(&mut self, action: [f64; 3]) -> Result<StepInfo, EpisodeError> {
         let clipped = action.iter().any(|v| v.abs() > 1.0);
         let [ax, ay, ayaw] = action.map(|v| v.clamp(-1.0, 1.0));
