@@ -55,7 +55,7 @@ from typing import Any
 
 import gymnasium as gym
 
-from agents.command_args import parse_setting
+from agents.command_args import parse_setting, settings_label
 from tactile_search import ENV_ID  # importing the package registers the environment
 from tactile_search.envs.config import MAP_MODES
 from tactile_search.seed_ranges import VALIDATION, held_out_seeds
@@ -128,7 +128,7 @@ def make_subjects(
     variants: list[dict[str, Any]] = [{}, variant] if variant else [{}]
     subjects = []
     for settings in variants:
-        suffix = "".join(f" {key}={value}" for key, value in sorted(settings.items()))
+        suffix = f" [{settings_label(settings)}]" if settings else ""
         subjects += [
             Subject(f"{OUR_NAME} map={m}{suffix}", gym.make(ENV_ID, map=m, **settings), True)
             for m in maps

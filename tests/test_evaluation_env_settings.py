@@ -9,9 +9,10 @@ from pathlib import Path
 
 import pytest
 
+from agents.command_args import settings_label
 from agents.evaluate import main as evaluate_main
 from agents.evaluation.comparison import agent_and_seed
-from agents.evaluation.evaluation import checked_env_settings, env_settings_label, evaluate
+from agents.evaluation.evaluation import checked_env_settings, evaluate
 
 KWARGS = {"episodes": 2, "gifs": False}
 
@@ -65,6 +66,6 @@ def test_an_unknown_setting_or_the_agents_own_mode_is_refused(
 
 
 def test_the_label_sorts_the_keys_and_writes_values_as_json() -> None:
-    assert env_settings_label({"max_steps": 3, "fast_free_motion": True}) == (
+    assert settings_label({"max_steps": 3, "fast_free_motion": True}) == (
         "fast_free_motion=true, max_steps=3"
     )

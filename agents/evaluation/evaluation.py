@@ -28,11 +28,11 @@ its model's contents) matches, and a GIF only if the provenance stored in it doe
 from __future__ import annotations
 
 import csv
-import json
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from agents.command_args import settings_label
 from agents.evaluation.agent_specs import make_agent, unique_names
 from agents.evaluation.ensemble import ensemble_members
 from agents.evaluation.episodes_csv import (
@@ -87,7 +87,7 @@ def prepare_evaluation(
     ]
     names = unique_names([agent for agent, _ in made], agent_specs)
     if env_settings:
-        names = [f"{name} [{env_settings_label(env_settings)}]" for name in names]
+        names = [f"{name} [{settings_label(env_settings)}]" for name in names]
     fingerprints = code_fingerprints(agent_specs, actions, blanked, env_settings)
     map_modes = [env_kwargs["map"] for _, env_kwargs in made]
     csv_path = out / "episodes.csv"
@@ -117,12 +117,6 @@ def checked_env_settings(env_settings: Mapping[str, Any] | None) -> dict[str, An
                 "(tactile_search.CupboardSearchEnv's keyword arguments)"
             )
     return settings
-
-
-def env_settings_label(env_settings: Mapping[str, Any]) -> str:
-    """``{"fast_free_motion": True}`` -> ``"fast_free_motion=true"`` (keys sorted, values as
-    JSON): the suffix that names an agent evaluated under changed settings."""
-    return ", ".join(f"{key}={json.dumps(env_settings[key])}" for key in sorted(env_settings))
 
 
 def example_gif(

@@ -15,8 +15,9 @@ over probes in float32 under autocast (``JointCategoricalDistribution``,
 Measured on an AMX CPU, one torch thread, side by side (``python -m benchmarks.learner_speed
 --variants recipe recipe:bfloat16_updates=true recipe:bfloat16_updates=true,n_epochs=5
 --timesteps 1024 --rounds 3``): the GPIS recipe's update 8.38 -> 6.48 ms per trained probe,
-1.17x its trained probes/s; with 5 epochs per rollout instead of 10, 1.72x. Whether success
-holds is a validation measurement, which no recipe has yet, so none sets it.
+1.17x its trained probes/s; with 5 epochs per rollout instead of 10, 1.72x. The PPO recipes
+set it, with 4 epochs, since a validation ablation kept (and raised) success
+(docs/RESULTS.md, "The learner in bfloat16 with fewer epochs").
 """
 
 from __future__ import annotations
