@@ -22,7 +22,8 @@ from pathlib import Path
 from typing import Any
 
 from agents.imitation.clone_stage import train_with_clone_stage
-from agents.run_dir import checkpoints, run_name
+from agents.run_dir import checkpoints, read_run_config, run_name
+from agents.sb3.recipes import load_hyperparams
 
 # The files of a run directory an evaluation needs (``agents.sb3.learned.LearnedAgent``).
 EVALUATED_RUN_FILES = ("model.zip", "config.yml")
@@ -69,14 +70,55 @@ class TrainingTrial:
         return self.run_dir.name
 
 
+def changed_recipe_keys(trial: TrainingTrial) -> list[str]:
+    """The recipe keys whose value in the ``config.yml`` of ``trial``'s run directory differs
+    from the recipe ``trial`` trains now (its algorithm's YAML with the trial's timesteps and
+    ``n_envs``), sorted; ``["config.yml"]`` when that file cannot be read as a run's config.
+    The imitation section is left out: the clone stage checks its own clone
+    (``agents.imitation.clone_stage``), and a warm start or PPO from scratch records none."""
+    try:
+        config = read_run_config(trial.run_dir, required=("algo", "map", "hyperparams", "versions"))
+    except ValueError:
+        return ["config.yml"]
+    recorded = config["hyperparams"]
+    recipe = load_hyperparams(trial.algo, trial.map_mode)
+    if trial.timesteps is not None:
+        recipe["n_timesteps"] = int(trial.timesteps)
+    if trial.n_envs is not None:
+        recipe["n_envs"] = int(trial.n_envs)
+    keys = (recipe.keys() | recorded.keys()) - {"imitation"}
+    return sorted(key for key in keys if recipe.get(key) != recorded.get(key))
+
+
+def discard_run(run_dir: Path) -> None:
+    """Makes way for a fresh run in ``run_dir``: its model and checkpoints go (the model
+    first, so that a kill in between leaves no model beside a config that does not describe
+    it); ``config.yml`` and ``progress.csv`` are rewritten by the new run, and the clone in
+    ``imitation/`` stays for the clone stage to reuse or replace."""
+    (run_dir / "model.zip").unlink(missing_ok=True)
+    for _, path in checkpoints(run_dir):
+        path.unlink()
+
+
 def train_trial(trial: TrainingTrial, progress_bar: bool = False) -> Path:
-    """Runs ``trial`` to its end: reuses a finished run (its ``model.zip`` exists; delete the
-    run directory to retrain), resumes a partly trained one from its newest checkpoint, or
-    trains it afresh. Returns the run directory."""
+    """Runs ``trial`` to its end: reuses a finished run (its ``model.zip`` exists) trained
+    with the recipe the trial has now, resumes a partly trained one from its newest
+    checkpoint, or trains it afresh. A run whose recorded recipe differs from the trial's
+    (``changed_recipe_keys``: a recipe edited since, another budget) is discarded and
+    trained again, with a line saying which keys changed. Returns the run directory."""
     run_dir = trial.run_dir
-    if (run_dir / "model.zip").is_file():
-        print(f"reusing {run_dir}", flush=True)
-        return run_dir
+    if (run_dir / "model.zip").is_file() or checkpoints(run_dir):
+        changed = changed_recipe_keys(trial)
+        if changed:
+            print(
+                f"training {run_dir} again: its recipe differs from the trial's in "
+                f"{', '.join(changed)}",
+                flush=True,
+            )
+            discard_run(run_dir)
+        elif (run_dir / "model.zip").is_file():
+            print(f"reusing {run_dir}", flush=True)
+            return run_dir
     resume = bool(checkpoints(run_dir))
     print(
         f"{'resuming' if resume else 'training'} {trial.algo} with the {trial.map_mode} map, "
