@@ -19,8 +19,8 @@
 //! [`direct_mapped_bytes`] counts the mapped blocks, which glibc's `mallinfo2` no longer
 //! sees (the soak's live heap adds it).
 //!
-//! The only module of the project with `unsafe` code (an allocator is nothing else): each
-//! block says why it holds.
+//! One of the two modules of the project with `unsafe` code (an allocator is nothing else;
+//! the other is the batch's `episode::shared_tiles`): each block says why it holds.
 
 #![allow(unsafe_code)]
 

@@ -13,7 +13,10 @@
 //! at once; past that it sleeps, so an idle batch costs no CPU. The tasks, one per episode
 //! that steps or resets, are taken one at a time from a shared queue, resets first: a reset
 //! costs as much as about 150 wrist steps, so one started last would leave the other threads idle while
-//! it runs alone. Each task writes its episode's observation straight into that episode's
+//! it runs alone. Even first, a reset outlasts the other threads' share of a wrist-mode
+//! step; so the episodes share one job board ([`SharedTiles`]), and a thread with no task
+//! left helps with the tiles of cells of a grid update still running on another (the bulk
+//! of a GPIS reset) before it waits. Each task writes its episode's observation straight into that episode's
 //! rows of the caller's buffers (in the bindings: numpy arrays allocated once per batch), so
 //! nothing is staged or copied and results do not depend on the thread count or on which
 //! thread ran what. [`EpisodeBatch::write_result`] then writes rewards, flags and infos as
@@ -32,6 +35,7 @@ use super::config::EpisodeConfig;
 use super::episode::Episode;
 use super::error::EpisodeError;
 use super::observation::PROPRIO_LEN;
+use super::shared_tiles::SharedTiles;
 use super::step_info::InfoColumns;
 
 /// What [`EpisodeBatch::run`] does with one episode.
@@ -50,9 +54,9 @@ pub enum Command {
 /// short enough that a batch waiting on a learner burns little of its core.
 pub const HELPER_WARM: Duration = Duration::from_millis(1);
 
-/// How long the calling thread spins for the helpers' last tasks before it sleeps until
-/// they are done: longer than a wrist-mode task (~60 µs), far shorter than a scheduler's
-/// time slice. Unbounded, a caller spinning on a loaded machine kept its core busy while the
+/// How long a thread with no task left spins (then yields) for the others' last tasks, and
+/// for a grid update of theirs to help with, before it sleeps until they are done: longer
+/// than a wrist-mode task (~60 µs), far shorter than a scheduler's time slice. Unbounded, a caller spinning on a loaded machine kept its core busy while the
 /// helper it waited for queued for the other one (the soak saw wrist steps 20-80x slower
 /// while two trainings ran); a sleeping caller's core takes the helper instead.
 pub const CALLER_SPIN: Duration = Duration::from_micros(200);
@@ -70,6 +74,8 @@ pub struct EpisodeBatch {
 struct Helpers {
     pool: ThreadPool,
     runs: Arc<AtomicU64>,
+    /// The job board every episode's grid updates go through.
+    tiles: Arc<SharedTiles>,
 }
 
 impl Helpers {
@@ -100,18 +106,25 @@ impl EpisodeBatch {
         seeds: &[u64],
         threads: Option<usize>,
     ) -> Result<Self, EpisodeError> {
-        let episodes = seeds
+        let mut episodes = seeds
             .iter()
             .map(|&seed| Episode::new(config.clone(), seed))
             .collect::<Result<Vec<_>, _>>()?;
         let cores = thread::available_parallelism().map_or(1, NonZeroUsize::get);
         let threads = threads.unwrap_or(cores).clamp(1, episodes.len().max(1));
-        let helpers = (threads > 1).then(|| Helpers {
-            pool: ThreadPoolBuilder::new()
-                .num_threads(threads - 1)
-                .build()
-                .expect("the OS can start the batch's helper threads"),
-            runs: Arc::new(AtomicU64::new(0)),
+        let helpers = (threads > 1).then(|| {
+            let tiles = Arc::new(SharedTiles::default());
+            for episode in &mut episodes {
+                episode.share_tiles(tiles.clone());
+            }
+            Helpers {
+                pool: ThreadPoolBuilder::new()
+                    .num_threads(threads - 1)
+                    .build()
+                    .expect("the OS can start the batch's helper threads"),
+                runs: Arc::new(AtomicU64::new(0)),
+                tiles,
+            }
         });
         Ok(Self {
             episodes,
@@ -266,8 +279,12 @@ impl EpisodeBatch {
             Some(helpers) if tasks.len() > 1 => {
                 let run = helpers.begin_run();
                 let working = helpers.pool.current_num_threads().min(tasks.len() - 1);
-                let queue = Mutex::new(tasks.into_iter());
-                let failures = Mutex::new(Vec::new());
+                let work = Work {
+                    remaining: AtomicUsize::new(tasks.len()),
+                    queue: Mutex::new(tasks.into_iter()),
+                    failures: Mutex::new(Vec::new()),
+                    tiles: &helpers.tiles,
+                };
                 let unfinished = AtomicUsize::new(working);
                 helpers.pool.in_place_scope(|scope| {
                     for _ in 0..working {
@@ -275,10 +292,10 @@ impl EpisodeBatch {
                             // Counted off even if a task panics (rayon then re-raises it
                             // here), so the wait below ends.
                             let _finished = CountOff(&unfinished);
-                            drain(&queue, &failures);
+                            work.take_part();
                         });
                     }
-                    drain(&queue, &failures);
+                    work.take_part();
                     // Spin (then yield) rather than sleep on the scope's latch, for at
                     // most CALLER_SPIN: past that the helper has likely lost its core to
                     // another process, and only a sleeping caller frees one for it.
@@ -289,7 +306,7 @@ impl EpisodeBatch {
                     }
                 });
                 helpers.keep_warm(run);
-                failures
+                work.failures
                     .into_inner()
                     .unwrap_or_else(PoisonError::into_inner)
             }
@@ -345,20 +362,51 @@ struct Task<'a> {
     proprio: &'a mut [f32],
 }
 
-/// Takes tasks from `queue` one at a time until it is empty, recording failures with
-/// their episode's index. The lock is held only to take a task, never while one runs.
-fn drain<'a, I>(queue: &Mutex<I>, failures: &Mutex<Vec<(usize, EpisodeError)>>)
+/// A run's tasks shared by its threads: the queue (resets first), how many tasks are not
+/// yet done, the failures with their episode's index, and the job board of grid tiles.
+struct Work<'a, I> {
+    remaining: AtomicUsize,
+    queue: Mutex<I>,
+    failures: Mutex<Vec<(usize, EpisodeError)>>,
+    tiles: &'a SharedTiles,
+}
+
+impl<'a, I> Work<'a, I>
 where
     I: Iterator<Item = Task<'a>>,
 {
-    loop {
-        let next = queue.lock().unwrap_or_else(PoisonError::into_inner).next();
-        let Some(task) = next else { return };
-        if let Err(failure) = carry_out(task) {
-            failures
+    /// One thread's part: takes tasks one at a time until the queue is empty (the lock is
+    /// held only to take a task, never while one runs), then helps with the grid tiles of
+    /// the tasks still running until every task is done.
+    fn take_part(&self) {
+        loop {
+            let next = self
+                .queue
                 .lock()
                 .unwrap_or_else(PoisonError::into_inner)
-                .push(failure);
+                .next();
+            let Some(task) = next else { break };
+            // Counted as done even if the task panics, so no thread helps forever.
+            let _done = TaskDone(self);
+            if let Err(failure) = carry_out(task) {
+                self.failures
+                    .lock()
+                    .unwrap_or_else(PoisonError::into_inner)
+                    .push(failure);
+            }
+        }
+        self.tiles
+            .help_until(|| self.remaining.load(Ordering::Acquire) == 0, CALLER_SPIN);
+    }
+}
+
+/// Counts one task of a [`Work`] as done when dropped; the last one wakes the helpers.
+struct TaskDone<'w, 'a, I>(&'w Work<'a, I>);
+
+impl<I> Drop for TaskDone<'_, '_, I> {
+    fn drop(&mut self) {
+        if self.0.remaining.fetch_sub(1, Ordering::AcqRel) == 1 {
+            self.0.tiles.wake_all();
         }
     }
 }

@@ -9,6 +9,8 @@
 //! In the `probe` action mode a step is a whole probe: the controller's wrist motions, each
 //! such a step, with their rewards summed ([`super::probe`]).
 
+use std::sync::Arc;
+
 use super::approach::{fingertip, ApproachField};
 use super::config::EpisodeConfig;
 use super::error::EpisodeError;
@@ -19,7 +21,7 @@ use super::metrics::footprint_mask;
 use super::observation::{proprio, PROPRIO_LEN};
 use super::probe::{ActionMode, Phase, ProbeController};
 use super::step_info::StepInfo;
-use crate::gpis::{Gpis, GridSpec};
+use crate::gpis::{Gpis, GridSpec, TileRunner};
 use crate::scene::{Contact, HandCommand, Scene};
 
 /// The target's footprint widened by this much counts as reached by the approach field, m.
@@ -77,6 +79,12 @@ impl Episode {
         };
         episode.start()?;
         Ok(episode)
+    }
+
+    /// Lets `runner` compute the map's grid updates in tiles (an episode batch shares its
+    /// threads this way); results do not change.
+    pub fn share_tiles(&mut self, runner: Arc<dyn TileRunner>) {
+        self.map.share_tiles(runner);
     }
 
     /// Starts the episode of `seed` (new layout, new first look, new prior).

@@ -31,6 +31,7 @@ pub mod observation;
 pub mod oracle;
 pub mod outline;
 pub mod probe;
+pub mod shared_tiles;
 pub mod static_geometry;
 pub mod step_info;
 

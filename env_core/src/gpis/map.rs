@@ -26,6 +26,10 @@
 //! solve per chunk, in tiles of cells. For the episode's depth prior (an empty map, about 130
 //! rows on 3200 cells) that grid work is nearly all of the cost: G·k²/2 multiply-adds in
 //! the solve.
+//!
+//! The tiles run on the map's thread, or on whatever threads its [`TileRunner`] lends
+//! ([`Gpis::share_tiles`]: an episode batch's idle threads); each tile takes its own rows
+//! of the new columns and of the grids, so the map is the same bit for bit.
 
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::{
@@ -33,6 +37,7 @@ use faer::linalg::triangular_solve::{
 };
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, Mat, MatMut, MatRef, Par};
+use std::sync::{Arc, Mutex, PoisonError};
 
 use super::error::GpisError;
 use super::full_recompute::{full_posterior, posterior_from_solved, GridPosterior};
@@ -40,6 +45,7 @@ use super::grid::GridSpec;
 use super::kernel::{RowKind, ThinPlateKernel};
 use super::observation::{noise_variance, Observation, Row};
 use super::rejecting_cholesky::{factor_rejecting, GroupOutcome, RejectingFactor, RowGroup};
+use super::tiles::{SerialTiles, TileRunner};
 
 /// Default ψ as a multiple of the bounds' diagonal (`docs/DESIGN.md` §3).
 pub const DEFAULT_PSI_FACTOR: f64 = 1.5;
@@ -170,6 +176,17 @@ pub struct Gpis {
     grid_cache_t: Mat<f64>,
     mean: Vec<f64>,
     variance: Vec<f64>,
+    /// Who computes a grid update's tiles ([`SerialTiles`] unless [`Gpis::share_tiles`]).
+    tiles: Arc<dyn TileRunner>,
+}
+
+/// One tile's share of a grid update: its first cell, its rows of the cache's new
+/// columns, and its cells of the mean and variance grids.
+struct GridTile<'a> {
+    first: usize,
+    cache: MatMut<'a, f64>,
+    mean: &'a mut [f64],
+    variance: &'a mut [f64],
 }
 
 impl Clone for Gpis {
@@ -194,6 +211,7 @@ impl Clone for Gpis {
             grid_cache_t: self.grid_cache_t.clone(),
             mean: self.mean.clone(),
             variance: self.variance.clone(),
+            tiles: Arc::clone(&self.tiles),
         };
         // A failed reservation is tried again, with its error, by the copy's next `add`.
         copy.reserve_rows(self.capacity).ok();
@@ -257,6 +275,7 @@ impl Gpis {
             grid_cache_t: Mat::zeros(n_cells, 0),
             mean,
             variance,
+            tiles: Arc::new(SerialTiles),
         };
         map.clear();
         Ok(map)
@@ -290,6 +309,13 @@ impl Gpis {
         self.variance.clear();
         self.variance
             .resize(n_cells, self.kernel.prior_variance(RowKind::Value));
+    }
+
+    /// Lets `runner` compute the tiles of cells of every later grid update (with threads
+    /// that would otherwise wait: the episode batch's). The map is bit for bit the same
+    /// under any runner; a copy of the map shares it.
+    pub fn share_tiles(&mut self, runner: Arc<dyn TileRunner>) {
+        self.tiles = runner;
     }
 
     /// The domain and its grid.
@@ -628,41 +654,67 @@ impl Gpis {
         let n_cells = self.cell_xs.len();
         let l21 = self.chol.as_ref().submatrix(held, 0, k, held);
         let l22 = self.chol.as_ref().submatrix(held, held, k, k);
+        let (rows, beta) = (&self.rows[held..], &self.beta[held..]);
+        let (cell_xs, cell_ys) = (&self.cell_xs, &self.cell_ys);
         // `add` reserved storage for every row it could add.
         let (old_cache, rest) = self.grid_cache_t.as_mut().split_at_col_mut(held);
-        let mut cache_new = rest.subcols_mut(0, k);
+        let old_cache = old_cache.rb();
+        // Each tile's share of the new columns and of the grids, handed out once.
+        let mut tiles = Vec::with_capacity(n_cells.div_ceil(CELL_TILE));
+        let mut cache_rest = rest.subcols_mut(0, k);
+        let (mut mean_rest, mut variance_rest) = (&mut self.mean[..], &mut self.variance[..]);
         let mut first = 0;
         while first < n_cells {
             let cells = CELL_TILE.min(n_cells - first);
-            let mut tile = cache_new.rb_mut().subrows_mut(first, cells);
-            for (c, row) in self.rows[held..].iter().enumerate() {
+            let (cache, cache_tail) = cache_rest.split_at_row_mut(cells);
+            let (mean, mean_tail) = mean_rest.split_at_mut(cells);
+            let (variance, variance_tail) = variance_rest.split_at_mut(cells);
+            tiles.push(Mutex::new(Some(GridTile {
+                first,
+                cache,
+                mean,
+                variance,
+            })));
+            (cache_rest, mean_rest, variance_rest) = (cache_tail, mean_tail, variance_tail);
+            first += cells;
+        }
+        let update_tile = |t: usize| {
+            let Some(GridTile {
+                first,
+                mut cache,
+                mean,
+                variance,
+            }) = tiles[t]
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .take()
+            else {
+                return;
+            };
+            let cells = mean.len();
+            for (c, row) in rows.iter().enumerate() {
                 kernel.value_column(
-                    &self.cell_xs[first..first + cells],
-                    &self.cell_ys[first..first + cells],
+                    &cell_xs[first..first + cells],
+                    &cell_ys[first..first + cells],
                     row.point,
                     row.kind,
-                    column_mut(&mut tile, c),
+                    column_mut(&mut cache, c),
                 );
             }
             if held > 0 {
                 matmul(
-                    tile.rb_mut(),
+                    cache.rb_mut(),
                     Accum::Add,
-                    old_cache.rb().subrows(first, cells),
+                    old_cache.subrows(first, cells),
                     l21.transpose(),
                     -1.0,
                     Par::Seq,
                 );
             }
-            solve_lower_triangular_in_place(l22, tile.rb_mut().transpose_mut(), Par::Seq);
-            fold_into_grids(
-                tile.rb(),
-                &self.beta[held..],
-                &mut self.mean[first..first + cells],
-                &mut self.variance[first..first + cells],
-            );
-            first += cells;
-        }
+            solve_lower_triangular_in_place(l22, cache.rb_mut().transpose_mut(), Par::Seq);
+            fold_into_grids(cache.rb(), beta, mean, variance);
+        };
+        self.tiles.run(tiles.len(), &update_tile);
     }
 
     /// Posterior mean, variance and mean gradient at arbitrary points inside the bounds.

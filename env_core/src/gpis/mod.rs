@@ -12,9 +12,11 @@ pub mod kernel;
 pub mod map;
 pub mod observation;
 mod rejecting_cholesky;
+pub mod tiles;
 
 pub use error::GpisError;
 pub use grid::GridSpec;
 pub use kernel::{RowKind, ThinPlateKernel};
 pub use map::{AddReport, Gpis, GpisConfig, GpisDefaults, Prediction, GPIS_DEFAULTS};
 pub use observation::{Observation, Row};
+pub use tiles::{SerialTiles, TileRunner};

@@ -8,6 +8,7 @@
 pub mod prior;
 
 use std::any::Any;
+use std::sync::Arc;
 
 use super::{
     to_byte, AgentMap, ChannelDecoder, GridValues, MapChannel, MapConfig, MapKind, TouchReport,
@@ -15,7 +16,7 @@ use super::{
 use crate::episode::error::EpisodeError;
 use crate::episode::metrics::iou;
 use crate::gpis::observation::noise_variance;
-use crate::gpis::{Gpis, GpisConfig, GridSpec, Observation};
+use crate::gpis::{Gpis, GpisConfig, GridSpec, Observation, TileRunner};
 use crate::scene::Contact;
 use prior::depth_prior;
 
@@ -161,6 +162,10 @@ impl AgentMap for GpisMap {
 
     fn as_any(&self) -> &dyn Any {
         self
+    }
+
+    fn share_tiles(&mut self, runner: Arc<dyn TileRunner>) {
+        self.gpis.share_tiles(runner);
     }
 }
 

@@ -30,9 +30,10 @@
 //! [`MapMode::kind`] and the trait.
 
 use std::any::Any;
+use std::sync::Arc;
 
 use super::error::EpisodeError;
-use crate::gpis::GridSpec;
+use crate::gpis::{GridSpec, TileRunner};
 use crate::scene::Contact;
 use crate::settings;
 use crate::settings::{Choice, Range};
@@ -226,6 +227,10 @@ pub trait AgentMap: Send + Sync {
 
     /// The map as `Any`, for typed access (tests, benchmarks).
     fn as_any(&self) -> &dyn Any;
+
+    /// Lets `runner` compute the map's grid updates in tiles (the episode batch's threads
+    /// help each other); maps without tiled updates ignore it. Results do not change.
+    fn share_tiles(&mut self, _runner: Arc<dyn TileRunner>) {}
 }
 
 /// The nearest byte to `value` in [0, 255], halves rounded up: `value + 0.5` truncated,

@@ -1,0 +1,252 @@
+//! A batch's threads help each other with a GPIS grid update instead of waiting.
+//!
+//! In a batch step the threads take whole episodes; a reset with the GPIS map costs as much
+//! as dozens of wrist steps, so the thread that takes it finishes last while the others
+//! wait. Most of that reset is the grid update of the depth prior, in tiles of cells that
+//! are independent ([`crate::gpis::tiles`]). The batch's episodes share one [`SharedTiles`]:
+//! a thread updating a grid posts the job, takes tiles itself, and the batch's threads with
+//! no episode left take the rest ([`SharedTiles::help_until`]). One job is open at a time;
+//! a second thread updating a grid meanwhile computes its own tiles. Results are bit for
+//! bit those of one thread: a tile's cells come out the same wherever it runs.
+//!
+//! The second module of the project with `unsafe` code (after the allocator,
+//! `direct_map`): a posted job's work borrows the grid update's data, so its lifetime is
+//! erased while other threads may call it. It holds because [`SharedTiles::run`] returns
+//! (or unwinds) only after every tile taken has been worked, and no tile is taken after
+//! that: the scoped-thread pattern of rayon's and crossbeam's scopes, which cannot serve
+//! here since the batch's calling thread is not one of its pool's workers.
+
+#![allow(unsafe_code)]
+
+use std::panic::{self, AssertUnwindSafe};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
+use std::time::{Duration, Instant};
+
+use crossbeam_utils::Backoff;
+
+use crate::gpis::TileRunner;
+
+/// How long a waiting helper sleeps at most before it looks again whether the run is done
+/// (it is woken at once when a job is posted or the run ends; this only bounds a missed
+/// wake-up).
+const LOOK_AGAIN: Duration = Duration::from_millis(5);
+
+/// The job board of a batch's threads.
+#[derive(Debug, Default)]
+pub struct SharedTiles {
+    /// The job open for helpers, if any.
+    open: Mutex<Option<Arc<Job>>>,
+    /// Whether `open` holds a job: what a spinning helper reads instead of the lock.
+    posted: AtomicBool,
+    /// Signalled when a job is posted and when a run's last task is done.
+    changed: Condvar,
+}
+
+/// One grid update's tiles.
+struct Job {
+    /// The work of one tile, its lifetime erased: valid until every tile is `done` (the
+    /// posting thread does not return before).
+    work: *const (dyn Fn(usize) + Sync + 'static),
+    tiles: usize,
+    /// The next tile to take.
+    next: AtomicUsize,
+    /// Tiles whose work has returned (or unwound).
+    done: AtomicUsize,
+}
+
+// SAFETY: `work` points at a `Sync` closure that outlives every call made through it
+// (`SharedTiles::run` waits for `done == tiles` before it returns and the closure goes);
+// the counters are atomics.
+unsafe impl Send for Job {}
+// SAFETY: as for `Send`: shared access calls the `Sync` closure and touches atomics only.
+unsafe impl Sync for Job {}
+
+impl std::fmt::Debug for Job {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Job")
+            .field("tiles", &self.tiles)
+            .field("next", &self.next)
+            .field("done", &self.done)
+            .finish()
+    }
+}
+
+/// Counts a taken tile as done when dropped, even if its work unwinds (the posting thread
+/// then stops waiting, and the panic reaches the batch's caller through rayon).
+struct CountDone<'a>(&'a AtomicUsize);
+
+impl Drop for CountDone<'_> {
+    fn drop(&mut self) {
+        self.0.fetch_add(1, Ordering::Release);
+    }
+}
+
+impl Job {
+    /// Takes tiles and works them until none is left.
+    fn work_through(&self) {
+        loop {
+            let tile = self.next.fetch_add(1, Ordering::Relaxed);
+            if tile >= self.tiles {
+                return;
+            }
+            let _done = CountDone(&self.done);
+            // SAFETY: `tile < tiles` was taken and is not yet done, so the posting thread
+            // is still waiting in `run` and the closure is alive.
+            unsafe { (*self.work)(tile) };
+        }
+    }
+}
+
+impl SharedTiles {
+    fn lock_open(&self) -> MutexGuard<'_, Option<Arc<Job>>> {
+        self.open.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// The job open for helpers, if any (a lock only when one was posted).
+    fn open_job(&self) -> Option<Arc<Job>> {
+        if self.posted.load(Ordering::Acquire) {
+            self.lock_open().clone()
+        } else {
+            None
+        }
+    }
+
+    /// Takes tiles of the jobs posted until `finished()` holds, then returns: what a batch
+    /// thread with no episode left to take does. Between jobs it spins (then yields) for at
+    /// most `spin`, then sleeps until a job is posted or [`SharedTiles::wake_all`] says the
+    /// run may be over.
+    pub fn help_until(&self, finished: impl Fn() -> bool, spin: Duration) {
+        let (mut backoff, mut waiting) = (Backoff::new(), Instant::now());
+        loop {
+            if let Some(job) = self.open_job() {
+                job.work_through();
+                (backoff, waiting) = (Backoff::new(), Instant::now());
+                continue;
+            }
+            if finished() {
+                return;
+            }
+            if waiting.elapsed() < spin {
+                backoff.snooze();
+                continue;
+            }
+            let open = self.lock_open();
+            if open.is_none() && !finished() {
+                drop(
+                    self.changed
+                        .wait_timeout(open, LOOK_AGAIN)
+                        .unwrap_or_else(PoisonError::into_inner),
+                );
+            }
+        }
+    }
+
+    /// Wakes every helper waiting in [`SharedTiles::help_until`] to look at its condition
+    /// again (call it after the condition may have changed).
+    pub fn wake_all(&self) {
+        let _open = self.lock_open();
+        self.changed.notify_all();
+    }
+}
+
+impl TileRunner for SharedTiles {
+    fn run(&self, tiles: usize, work: &(dyn Fn(usize) + Sync)) {
+        if tiles < 2 {
+            (0..tiles).for_each(work);
+            return;
+        }
+        // SAFETY: only the lifetime is erased; this function does not return before every
+        // tile is done (below), and no call through the pointer starts after that.
+        let work: *const (dyn Fn(usize) + Sync + 'static) = unsafe { std::mem::transmute(work) };
+        let job = Arc::new(Job {
+            work,
+            tiles,
+            next: AtomicUsize::new(0),
+            done: AtomicUsize::new(0),
+        });
+        let posted = {
+            let mut open = self.lock_open();
+            let free = open.is_none();
+            if free {
+                *open = Some(Arc::clone(&job));
+                self.posted.store(true, Ordering::Release);
+                self.changed.notify_all();
+            }
+            free
+        };
+        // The caller's own tiles; a panic among them is raised again only after the helpers'
+        // tiles are done, so no helper calls the work after it is gone.
+        let own = panic::catch_unwind(AssertUnwindSafe(|| job.work_through()));
+        if posted {
+            let mut open = self.lock_open();
+            if open.as_ref().is_some_and(|o| Arc::ptr_eq(o, &job)) {
+                *open = None;
+                self.posted.store(false, Ordering::Release);
+            }
+        }
+        // The helpers' last tiles: each at most one tile's work.
+        let backoff = Backoff::new();
+        while job.done.load(Ordering::Acquire) < tiles {
+            backoff.snooze();
+        }
+        if let Err(payload) = own {
+            panic::resume_unwind(payload);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::thread;
+
+    use super::*;
+
+    #[test]
+    fn every_tile_runs_once_while_helpers_take_some() {
+        let board = SharedTiles::default();
+        let finished = AtomicBool::new(false);
+        let counts: Vec<AtomicUsize> = (0..64).map(|_| AtomicUsize::new(0)).collect();
+        let helped = AtomicUsize::new(0);
+        let poster = thread::current().id();
+        thread::scope(|scope| {
+            for _ in 0..3 {
+                scope.spawn(|| {
+                    board.help_until(|| finished.load(Ordering::Acquire), Duration::ZERO)
+                });
+            }
+            for _ in 0..20 {
+                board.run(counts.len(), &|t| {
+                    counts[t].fetch_add(1, Ordering::Relaxed);
+                    if thread::current().id() != poster {
+                        helped.fetch_add(1, Ordering::Relaxed);
+                    }
+                    thread::sleep(Duration::from_micros(50));
+                });
+            }
+            finished.store(true, Ordering::Release);
+            board.wake_all();
+        });
+        assert!(counts.iter().all(|c| c.load(Ordering::Relaxed) == 20));
+        assert!(helped.load(Ordering::Relaxed) > 0, "no helper took a tile");
+        assert!(board.lock_open().is_none(), "a job was left open");
+    }
+
+    #[test]
+    fn a_second_job_posted_meanwhile_runs_on_its_own_thread() {
+        let board = SharedTiles::default();
+        let counts: Vec<AtomicUsize> = (0..16).map(|_| AtomicUsize::new(0)).collect();
+        thread::scope(|scope| {
+            for _ in 0..2 {
+                scope.spawn(|| {
+                    for _ in 0..50 {
+                        board.run(counts.len(), &|t| {
+                            counts[t].fetch_add(1, Ordering::Relaxed);
+                        });
+                    }
+                });
+            }
+        });
+        assert!(counts.iter().all(|c| c.load(Ordering::Relaxed) == 100));
+    }
+}
