@@ -41,6 +41,15 @@ def finished_run(runs: Path, **recipe_changes) -> TrainingTrial:
     return trial
 
 
+def stopped_half_way(trial: TrainingTrial) -> Path:
+    """Turns ``trial``'s finished run into one stopped at a checkpoint; the checkpoint."""
+    (trial.run_dir / "model.zip").unlink()
+    checkpoint = trial.run_dir / CHECKPOINT_DIR / f"{CHECKPOINT_PREFIX}_512_steps.zip"
+    checkpoint.parent.mkdir()
+    checkpoint.write_bytes(b"half of the run")
+    return checkpoint
+
+
 @pytest.fixture
 def trainings(monkeypatch) -> list[dict]:
     """The calls ``train_trial`` makes to train, recorded instead of run."""
@@ -76,10 +85,7 @@ def test_a_finished_run_of_an_edited_recipe_is_trained_again(tmp_path, trainings
 def test_an_unfinished_run_of_an_edited_recipe_starts_afresh(tmp_path, trainings) -> None:
     recipe = load_hyperparams("ppo", "none")
     trial = finished_run(tmp_path, learning_rate=recipe["learning_rate"] * 2)
-    (trial.run_dir / "model.zip").unlink()
-    checkpoint = trial.run_dir / CHECKPOINT_DIR / f"{CHECKPOINT_PREFIX}_512_steps.zip"
-    checkpoint.parent.mkdir()
-    checkpoint.write_bytes(b"half of the old run")
+    checkpoint = stopped_half_way(trial)
     train_trial(trial)
     assert trainings[0]["resume"] is False
     assert not checkpoint.exists()
@@ -87,10 +93,7 @@ def test_an_unfinished_run_of_an_edited_recipe_starts_afresh(tmp_path, trainings
 
 def test_an_unfinished_run_of_the_same_recipe_resumes(tmp_path, trainings) -> None:
     trial = finished_run(tmp_path)
-    (trial.run_dir / "model.zip").unlink()
-    checkpoint = trial.run_dir / CHECKPOINT_DIR / f"{CHECKPOINT_PREFIX}_512_steps.zip"
-    checkpoint.parent.mkdir()
-    checkpoint.write_bytes(b"half of the run")
+    checkpoint = stopped_half_way(trial)
     train_trial(trial)
     assert trainings[0]["resume"] is True
     assert checkpoint.exists()
