@@ -176,8 +176,14 @@ impl TileRunner for SharedTiles {
             free
         };
         // The caller's own tiles; a panic among them is raised again only after the helpers'
-        // tiles are done, so no helper calls the work after it is gone.
+        // tiles are done, so no helper calls the work after it is gone. The tiles nobody
+        // took by then are counted done unworked (the update is lost with the panic anyway).
         let own = panic::catch_unwind(AssertUnwindSafe(|| job.work_through()));
+        if own.is_err() {
+            while job.next.fetch_add(1, Ordering::Relaxed) < tiles {
+                job.done.fetch_add(1, Ordering::Release);
+            }
+        }
         if posted {
             let mut open = self.lock_open();
             if open.as_ref().is_some_and(|o| Arc::ptr_eq(o, &job)) {
@@ -229,6 +235,25 @@ mod tests {
         });
         assert!(counts.iter().all(|c| c.load(Ordering::Relaxed) == 20));
         assert!(helped.load(Ordering::Relaxed) > 0, "no helper took a tile");
+        assert!(board.lock_open().is_none(), "a job was left open");
+    }
+
+    #[test]
+    fn a_panicking_tile_reaches_the_poster_without_a_hang() {
+        let board = SharedTiles::default();
+        let worked = AtomicUsize::new(0);
+        let caught = panic::catch_unwind(AssertUnwindSafe(|| {
+            board.run(8, &|t| {
+                assert!(t != 2, "tile 2 fails");
+                worked.fetch_add(1, Ordering::Relaxed);
+            });
+        }));
+        assert!(caught.is_err(), "the panic was swallowed");
+        assert_eq!(
+            worked.load(Ordering::Relaxed),
+            2,
+            "tiles after the panic ran"
+        );
         assert!(board.lock_open().is_none(), "a job was left open");
     }
 
