@@ -23,7 +23,7 @@ from typing import Any
 
 from agents.imitation.clone_stage import train_with_clone_stage
 from agents.run_dir import checkpoints, read_run_config, run_name
-from agents.sb3.recipes import load_hyperparams
+from agents.sb3.recipes import run_recipe
 
 # The files of a run directory an evaluation needs (``agents.sb3.learned.LearnedAgent``).
 EVALUATED_RUN_FILES = ("model.zip", "config.yml")
@@ -72,20 +72,17 @@ class TrainingTrial:
 
 def changed_recipe_keys(trial: TrainingTrial) -> list[str]:
     """The recipe keys whose value in the ``config.yml`` of ``trial``'s run directory differs
-    from the recipe ``trial`` trains now (its algorithm's YAML with the trial's timesteps and
-    ``n_envs``), sorted; ``["config.yml"]`` when that file cannot be read as a run's config.
-    The imitation section is left out: the clone stage checks its own clone
-    (``agents.imitation.clone_stage``), and a warm start or PPO from scratch records none."""
+    from the recipe ``trial`` trains now (``run_recipe`` with the trial's timesteps and
+    ``n_envs``, as ``train`` records it), sorted; ``["config.yml"]`` when that file cannot
+    be read as a run's config. The imitation section is left out: the clone stage checks its
+    own clone (``agents.imitation.clone_stage``), and a warm start or PPO from scratch
+    records none."""
     try:
         config = read_run_config(trial.run_dir, required=("algo", "map", "hyperparams", "versions"))
     except ValueError:
         return ["config.yml"]
     recorded = config["hyperparams"]
-    recipe = load_hyperparams(trial.algo, trial.map_mode)
-    if trial.timesteps is not None:
-        recipe["n_timesteps"] = int(trial.timesteps)
-    if trial.n_envs is not None:
-        recipe["n_envs"] = int(trial.n_envs)
+    recipe = run_recipe(trial.algo, trial.map_mode, timesteps=trial.timesteps, n_envs=trial.n_envs)
     keys = (recipe.keys() | recorded.keys()) - {"imitation"}
     return sorted(key for key in keys if recipe.get(key) != recorded.get(key))
 

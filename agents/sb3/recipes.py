@@ -77,6 +77,30 @@ def load_hyperparams(
     return recipe
 
 
+def run_recipe(
+    algo: str,
+    map_mode: str,
+    env_id: str = ENV_ID,
+    path: Path | None = None,
+    *,
+    timesteps: int | None = None,
+    n_envs: int | None = None,
+    max_minutes: float | None = None,
+) -> dict[str, Any]:
+    """The recipe a fresh run trains and records in its ``config.yml`` (``hyperparams``):
+    ``load_hyperparams``' with ``timesteps``, ``n_envs`` and ``max_minutes``, where given,
+    over the recipe's ``n_timesteps``, ``n_envs`` and ``max_minutes`` (the imitation
+    section as the YAML has it; the run records the section its clone stage ran)."""
+    recipe = load_hyperparams(algo, map_mode, env_id, path)
+    if timesteps is not None:
+        recipe["n_timesteps"] = int(timesteps)
+    if n_envs is not None:
+        recipe["n_envs"] = int(n_envs)
+    if max_minutes is not None:
+        recipe["max_minutes"] = float(max_minutes)
+    return recipe
+
+
 # A recipe names classes in its policy_kwargs by dotted path (YAML holds no classes).
 CLASS_KEYS = ("features_extractor_class", "activation_fn")
 

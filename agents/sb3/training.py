@@ -52,6 +52,7 @@ from agents.sb3.recipes import (
     load_hyperparams,
     load_objects,
     new_model,
+    run_recipe,
     training_class,
 )
 from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS, make_training_env
@@ -204,13 +205,15 @@ def train(
         if config is None:
             return run_dir
     else:
-        recipe = load_hyperparams(algo, map_mode, env_id, hyperparams)
-        if timesteps is not None:
-            recipe["n_timesteps"] = int(timesteps)
-        if n_envs is not None:
-            recipe["n_envs"] = int(n_envs)
-        if max_minutes is not None:
-            recipe["max_minutes"] = float(max_minutes)
+        recipe = run_recipe(
+            algo,
+            map_mode,
+            env_id,
+            hyperparams,
+            timesteps=timesteps,
+            n_envs=n_envs,
+            max_minutes=max_minutes,
+        )
         _imitation_section(recipe, map_mode, imitation, init_from is not None, from_scratch)
         _clear_for_fresh_start(run_dir)
         config = {

@@ -12,15 +12,16 @@
 //! stays awake for [`HELPER_WARM`] (a spinning job in its pool) to take the next run's tasks
 //! at once; past that it sleeps, so an idle batch costs no CPU. The tasks, one per episode
 //! that steps or resets, are taken one at a time from a shared queue, resets first: a reset
-//! costs as much as about 150 wrist steps, so one started last would leave the other threads idle while
-//! it runs alone. Even first, a reset outlasts the other threads' share of a wrist-mode
-//! step; so the episodes share one job board ([`SharedTiles`]), and a thread with no task
-//! left helps with the tiles of cells of a grid update still running on another (the bulk
-//! of a GPIS reset) before it waits. Each task writes its episode's observation straight into that episode's
-//! rows of the caller's buffers (in the bindings: numpy arrays allocated once per batch), so
-//! nothing is staged or copied and results do not depend on the thread count or on which
-//! thread ran what. [`EpisodeBatch::write_result`] then writes rewards, flags and infos as
-//! columns (O(info fields) per episode, on the calling thread).
+//! costs as much as about 150 wrist steps, so one started last would leave the other
+//! threads idle while it runs alone. Even first, a reset outlasts the other threads' share
+//! of a wrist-mode step; so the episodes share one job board ([`SharedTiles`]), and a
+//! thread with no task left helps with the tiles of cells of a grid update still running
+//! on another (the bulk of a GPIS reset) before it waits. Each task writes its episode's
+//! observation straight into that episode's rows of the caller's buffers (in the bindings:
+//! numpy arrays allocated once per batch), so nothing is staged or copied and results do
+//! not depend on the thread count or on which thread ran what.
+//! [`EpisodeBatch::write_result`] then writes rewards, flags and infos as columns
+//! (O(info fields) per episode, on the calling thread).
 
 use std::num::NonZeroUsize;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
@@ -56,9 +57,10 @@ pub const HELPER_WARM: Duration = Duration::from_millis(1);
 
 /// How long a thread with no task left spins (then yields) for the others' last tasks, and
 /// for a grid update of theirs to help with, before it sleeps until they are done: longer
-/// than a wrist-mode task (~60 µs), far shorter than a scheduler's time slice. Unbounded, a caller spinning on a loaded machine kept its core busy while the
-/// helper it waited for queued for the other one (the soak saw wrist steps 20-80x slower
-/// while two trainings ran); a sleeping caller's core takes the helper instead.
+/// than a wrist-mode task (~60 µs), far shorter than a scheduler's time slice. Unbounded, a
+/// caller spinning on a loaded machine kept its core busy while the helper it waited for
+/// queued for the other one (the soak saw wrist steps 20-80x slower while two trainings
+/// ran); a sleeping caller's core takes the helper instead.
 pub const CALLER_SPIN: Duration = Duration::from_micros(200);
 
 /// N episodes with the same configuration.
