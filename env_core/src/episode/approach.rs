@@ -5,6 +5,10 @@
 //! footprint (widened by `clearance`) costs `THROUGH_JAR_COST` times its length: the
 //! distance follows the free corridor instead of pointing through the occluder, yet stays
 //! finite everywhere, so a finger pressed into a jar still has a well-defined potential.
+//! Its queue is a ring of buckets (`BucketQueue`) rather than a binary heap: the same
+//! distances bit for bit, in 1.4x fewer instructions (callgrind of
+//! `examples/gpis_reset`).
+//!
 //! Points between cell centres are interpolated bilinearly; points outside the grid (the
 //! fingertip before it enters the opening) add their straight distance to the nearest point
 //! of the grid.
@@ -23,9 +27,6 @@
 //! at the target (`d_T` ≈ 0), so among successful episodes the undiscounted bonus is the
 //! same whatever the path; the shaping tells a learner early which way is closer.
 
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
-
 use super::metrics::footprint_mask_within;
 use crate::gpis::GridSpec;
 use crate::scene::JarState;
@@ -42,31 +43,10 @@ pub struct ApproachField {
     distance: Vec<f64>,
 }
 
-#[derive(PartialEq)]
-struct Frontier {
-    distance: f64,
-    cell: usize,
-}
-
-impl Eq for Frontier {}
-
-impl Ord for Frontier {
-    fn cmp(&self, other: &Self) -> Ordering {
-        // Reversed: BinaryHeap is a max-heap and Dijkstra pops the nearest cell first.
-        other.distance.total_cmp(&self.distance)
-    }
-}
-
-impl PartialOrd for Frontier {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
 impl ApproachField {
     /// The field for `jars[target]` (cells within `clearance` of its footprint are the goal);
     /// other jars' footprints widened by `clearance` (m) are expensive to cross. Cost
-    /// O(G log G).
+    /// O(G) for G cells.
     pub fn new(grid: &GridSpec, jars: &[JarState], target: usize, clearance: f64) -> Self {
         let (h, w) = grid.shape();
         let (mut goal, mut blocked) = (Vec::new(), Vec::new());
@@ -80,42 +60,11 @@ impl ApproachField {
         let step_factor: Vec<f64> = (goal.iter().zip(&blocked))
             .map(|(&g, &b)| if b && !g { THROUGH_JAR_COST } else { 1.0 })
             .collect();
-        let mut distance = vec![f64::INFINITY; h * w];
-        let mut heap = BinaryHeap::new();
-        for cell in (0..h * w).filter(|&cell| goal[cell]) {
-            distance[cell] = 0.0;
-            heap.push(Frontier {
-                distance: 0.0,
-                cell,
-            });
-        }
         let [[x0, x1], [y0, y1]] = grid.bounds();
         let (cell_w, cell_h) = ((x1 - x0) / w as f64, (y1 - y0) / h as f64);
         let lengths = NEIGHBOURS.map(|(di, dj)| (di as f64 * cell_h).hypot(dj as f64 * cell_w));
-        while let Some(Frontier { distance: d, cell }) = heap.pop() {
-            if d > distance[cell] {
-                continue;
-            }
-            let (i, j) = (cell / w, cell % w);
-            for ((di, dj), length) in NEIGHBOURS.into_iter().zip(lengths) {
-                let (Some(ni), Some(nj)) = (i.checked_add_signed(di), j.checked_add_signed(dj))
-                else {
-                    continue;
-                };
-                if ni >= h || nj >= w {
-                    continue;
-                }
-                let next = ni * w + nj;
-                let candidate = d + length * 0.5 * (step_factor[cell] + step_factor[next]);
-                if candidate < distance[next] {
-                    distance[next] = candidate;
-                    heap.push(Frontier {
-                        distance: candidate,
-                        cell: next,
-                    });
-                }
-            }
-        }
+        let queue = BucketQueue::new(lengths, THROUGH_JAR_COST);
+        let distance = path_distances((h, w), lengths, &step_factor, &goal, queue);
         Self {
             shape: (h, w),
             bounds: grid.bounds(),
@@ -157,6 +106,115 @@ impl ApproachField {
     }
 }
 
+/// Dijkstra over an `h × w` grid, 8-connected (`NEIGHBOURS`, whose lengths are `lengths`):
+/// each cell's least path cost to a `goal` cell, a step costing its length times the mean
+/// of its two cells' `step_factor`s (each at least 1 and at most `THROUGH_JAR_COST`);
+/// infinite where no goal is reachable. `queue` orders the search (empty).
+fn path_distances(
+    (h, w): (usize, usize),
+    lengths: [f64; 8],
+    step_factor: &[f64],
+    goal: &[bool],
+    mut queue: impl DistanceQueue,
+) -> Vec<f64> {
+    let mut distance = vec![f64::INFINITY; h * w];
+    for cell in (0..h * w).filter(|&cell| goal[cell]) {
+        distance[cell] = 0.0;
+        queue.push(cell, 0.0);
+    }
+    let mut settled = vec![false; h * w];
+    while let Some(cell) = queue.pop() {
+        if std::mem::replace(&mut settled[cell], true) {
+            continue;
+        }
+        let d = distance[cell];
+        let (i, j) = (cell / w, cell % w);
+        for ((di, dj), length) in NEIGHBOURS.into_iter().zip(lengths) {
+            let (Some(ni), Some(nj)) = (i.checked_add_signed(di), j.checked_add_signed(dj)) else {
+                continue;
+            };
+            if ni >= h || nj >= w {
+                continue;
+            }
+            let next = ni * w + nj;
+            let candidate = d + length * 0.5 * (step_factor[cell] + step_factor[next]);
+            if candidate < distance[next] {
+                distance[next] = candidate;
+                queue.push(next, candidate);
+            }
+        }
+    }
+    distance
+}
+
+/// Dijkstra's queue of cells by their distance: a cell may be pushed again at a smaller
+/// distance (the search skips the cells it has settled).
+trait DistanceQueue {
+    /// Queues `cell` at `distance` (finite, at least the distance of the cell last popped).
+    fn push(&mut self, cell: usize, distance: f64);
+    /// A cell queued at the least distance, or `None` once the queue is empty.
+    fn pop(&mut self) -> Option<usize>;
+}
+
+/// Dijkstra's queue as a ring of buckets (Dial's queue, with buckets narrower than a step):
+/// bucket b holds the cells reached at a distance in [b·width, (b+1)·width), with the width
+/// half the cheapest step. A cell settled from bucket b reaches its neighbours at least two
+/// buckets later (the half width also covers the rounding of the sums), so no cell of a
+/// bucket can improve another of the same bucket: its cells are settled in any order, and
+/// every cell ends with the distance a binary heap gives, bit for bit (each is the least
+/// rounded sum over its neighbours' final distances, whatever the order of settling). A
+/// step spans fewer buckets than the ring holds, so the ring never laps itself. A cell
+/// pushed again when its distance drops leaves a stale entry behind; the caller skips
+/// cells it has settled. Push and pop cost O(1) (amortised over the empty buckets passed).
+struct BucketQueue {
+    width: f64,
+    ring: Vec<Vec<usize>>,
+    /// The absolute bucket being drained.
+    current: usize,
+    pending: usize,
+}
+
+impl BucketQueue {
+    /// A queue for steps of these lengths (positive and finite) with step factors from 1 to
+    /// `most_factor`.
+    fn new(lengths: [f64; 8], most_factor: f64) -> Self {
+        let shortest = lengths.iter().copied().fold(f64::INFINITY, f64::min);
+        let longest = lengths.iter().copied().fold(0.0, f64::max) * most_factor;
+        let width = 0.5 * shortest;
+        let buckets = (longest / width).ceil() as usize + 2;
+        Self {
+            width,
+            ring: vec![Vec::new(); buckets],
+            current: 0,
+            pending: 0,
+        }
+    }
+}
+
+impl DistanceQueue for BucketQueue {
+    fn push(&mut self, cell: usize, distance: f64) {
+        let bucket = (distance / self.width) as usize;
+        debug_assert!(bucket >= self.current && bucket < self.current + self.ring.len());
+        let slot = bucket % self.ring.len();
+        self.ring[slot].push(cell);
+        self.pending += 1;
+    }
+
+    fn pop(&mut self) -> Option<usize> {
+        if self.pending == 0 {
+            return None;
+        }
+        loop {
+            let slot = self.current % self.ring.len();
+            if let Some(cell) = self.ring[slot].pop() {
+                self.pending -= 1;
+                return Some(cell);
+            }
+            self.current += 1;
+        }
+    }
+}
+
 const NEIGHBOURS: [(isize, isize); 8] = [
     (-1, -1),
     (-1, 0),
@@ -173,4 +231,73 @@ const NEIGHBOURS: [(isize, isize); 8] = [
 pub fn fingertip(x: f64, y: f64, yaw: f64, finger_length: f64) -> [f64; 2] {
     let (s, c) = yaw.sin_cos();
     [x - s * finger_length, y + c * finger_length]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+
+    /// The textbook queue the bucket queue replaced: a binary heap (non-negative floats
+    /// order as their bits do).
+    #[derive(Default)]
+    struct HeapQueue(BinaryHeap<Reverse<(u64, usize)>>);
+
+    impl DistanceQueue for HeapQueue {
+        fn push(&mut self, cell: usize, distance: f64) {
+            self.0.push(Reverse((distance.to_bits(), cell)));
+        }
+
+        fn pop(&mut self) -> Option<usize> {
+            self.0.pop().map(|Reverse((_, cell))| cell)
+        }
+    }
+
+    /// The bucket queue settles every cell at the heap's distance, bit for bit: random
+    /// blocked cells and goals on grids of several shapes and cell aspect ratios (the
+    /// rounding of long sums included: the largest grid's paths run to hundreds of steps).
+    #[test]
+    fn bucket_queue_distances_equal_a_binary_heaps_bit_for_bit() {
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for (h, w, cell_h, cell_w) in [
+            (40, 80, 0.01, 0.01),
+            (40, 80, 0.0075, 0.01),
+            (7, 3, 0.3, 0.011),
+            (1, 9, 0.02, 0.02),
+            (120, 90, 0.004, 0.0051),
+        ] {
+            let lengths = NEIGHBOURS.map(|(di, dj)| (di as f64 * cell_h).hypot(dj as f64 * cell_w));
+            for trial in 0..20 {
+                let goal: Vec<bool> = (0..h * w).map(|_| next() % 97 == 0).collect();
+                let blocked_share = trial % 5;
+                let step_factor: Vec<f64> = (0..h * w)
+                    .map(|_| {
+                        if next() % 5 < blocked_share {
+                            THROUGH_JAR_COST
+                        } else {
+                            1.0
+                        }
+                    })
+                    .collect();
+                let buckets = BucketQueue::new(lengths, THROUGH_JAR_COST);
+                let buckets = path_distances((h, w), lengths, &step_factor, &goal, buckets);
+                let heap =
+                    path_distances((h, w), lengths, &step_factor, &goal, HeapQueue::default());
+                for (cell, (b, e)) in buckets.iter().zip(&heap).enumerate() {
+                    assert_eq!(
+                        b.to_bits(),
+                        e.to_bits(),
+                        "{h}x{w}, trial {trial}, cell {cell}"
+                    );
+                }
+            }
+        }
+    }
 }
