@@ -11,7 +11,9 @@
 //! for the helpers' last tasks, for at most [`CALLER_SPIN`], and after a run each helper
 //! stays awake for [`HELPER_WARM`] (a spinning job in its pool) to take the next run's tasks
 //! at once; past that it sleeps, so an idle batch costs no CPU. The tasks, one per episode
-//! that steps or resets, are taken one at a time from a shared queue, resets first: a reset
+//! that steps or resets, are taken one at a time from a shared queue, resets first (then
+//! the calling thread takes steps from its front and the helpers from its back, so that an
+//! episode tends to stay on one thread and in its core's cache): a reset
 //! costs as much as about 150 wrist steps, so one started last would leave the other
 //! threads idle while it runs alone. Even first, a reset outlasts the other threads' share
 //! of a wrist-mode step; so the episodes share one job board ([`SharedTiles`]), and a
@@ -23,6 +25,7 @@
 //! [`EpisodeBatch::write_result`] then writes rewards, flags and infos as columns
 //! (O(info fields) per episode, on the calling thread).
 
+use std::collections::VecDeque;
 use std::num::NonZeroUsize;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
@@ -283,7 +286,7 @@ impl EpisodeBatch {
                 let working = helpers.pool.current_num_threads().min(tasks.len() - 1);
                 let work = Work {
                     remaining: AtomicUsize::new(tasks.len()),
-                    queue: Mutex::new(tasks.into_iter()),
+                    queue: Mutex::new(tasks.into()),
                     failures: Mutex::new(Vec::new()),
                     tiles: &helpers.tiles,
                 };
@@ -294,10 +297,10 @@ impl EpisodeBatch {
                             // Counted off even if a task panics (rayon then re-raises it
                             // here), so the wait below ends.
                             let _finished = CountOff(&unfinished);
-                            work.take_part();
+                            work.take_part(End::Back);
                         });
                     }
-                    work.take_part();
+                    work.take_part(End::Front);
                     // Spin (then yield) rather than sleep on the scope's latch, for at
                     // most CALLER_SPIN: past that the helper has likely lost its core to
                     // another process, and only a sleeping caller frees one for it.
@@ -364,29 +367,47 @@ struct Task<'a> {
     proprio: &'a mut [f32],
 }
 
-/// A run's tasks shared by its threads: the queue (resets first), how many tasks are not
-/// yet done, the failures with their episode's index, and the job board of grid tiles.
-struct Work<'a, I> {
+/// A run's tasks shared by its threads: the queue (resets first, then the steps in episode
+/// order; see [`take_next`]), how many tasks are not yet done, the failures with their episode's index, and the job board of grid tiles.
+struct Work<'a> {
     remaining: AtomicUsize,
-    queue: Mutex<I>,
+    queue: Mutex<VecDeque<Task<'a>>>,
     failures: Mutex<Vec<(usize, EpisodeError)>>,
     tiles: &'a SharedTiles,
 }
 
-impl<'a, I> Work<'a, I>
-where
-    I: Iterator<Item = Task<'a>>,
-{
+/// Which end of a run's queue a thread takes its steps from: the calling thread the front,
+/// the helpers the back.
+#[derive(Debug, Clone, Copy)]
+enum End {
+    Front,
+    Back,
+}
+
+/// The next task from a queue that holds its resets first: a reset while there is one,
+/// then a step from `end`. With the steps in episode order, the calling thread steps the
+/// first episodes and a helper the last ones, run after run, as long as the load is even:
+/// an episode keeps its thread, and its physics world and map stay in that core's cache
+/// (taken in one order by both, they went to either thread at random).
+fn take_next<T>(queue: &mut VecDeque<T>, end: End, is_reset: impl Fn(&T) -> bool) -> Option<T> {
+    match end {
+        _ if queue.front().is_some_and(is_reset) => queue.pop_front(),
+        End::Front => queue.pop_front(),
+        End::Back => queue.pop_back(),
+    }
+}
+
+impl Work<'_> {
     /// One thread's part: takes tasks one at a time until the queue is empty (the lock is
     /// held only to take a task, never while one runs), then helps with the grid tiles of
     /// the tasks still running until every task is done.
-    fn take_part(&self) {
+    fn take_part(&self, end: End) {
         loop {
-            let next = self
-                .queue
-                .lock()
-                .unwrap_or_else(PoisonError::into_inner)
-                .next();
+            let next = take_next(
+                &mut self.queue.lock().unwrap_or_else(PoisonError::into_inner),
+                end,
+                |task| matches!(task.command, Command::Reset(_)),
+            );
             let Some(task) = next else { break };
             // Counted as done even if the task panics, so no thread helps forever.
             let _done = TaskDone(self);
@@ -403,9 +424,9 @@ where
 }
 
 /// Counts one task of a [`Work`] as done when dropped; the last one wakes the helpers.
-struct TaskDone<'w, 'a, I>(&'w Work<'a, I>);
+struct TaskDone<'w, 'a>(&'w Work<'a>);
 
-impl<I> Drop for TaskDone<'_, '_, I> {
+impl Drop for TaskDone<'_, '_> {
     fn drop(&mut self) {
         if self.0.remaining.fetch_sub(1, Ordering::AcqRel) == 1 {
             self.0.tiles.wake_all();
@@ -440,6 +461,23 @@ mod tests {
 
     use super::*;
     use crate::episode::{oracle_action, ActionMode, MapMode, StepInfo};
+
+    /// Resets are taken first, from either end; then the calling thread takes steps from
+    /// the front and a helper from the back, so each keeps its own episodes.
+    #[test]
+    fn resets_go_first_then_each_thread_steps_its_own_end_of_the_queue() {
+        let is_reset = |task: &&str| task.starts_with('r');
+        let mut queue = VecDeque::from(["r1", "r2", "s1", "s2", "s3", "s4"]);
+        let mut take = |end| take_next(&mut queue, end, is_reset);
+        assert_eq!(take(End::Back), Some("r1"));
+        assert_eq!(take(End::Back), Some("r2"));
+        assert_eq!(take(End::Back), Some("s4"));
+        assert_eq!(take(End::Front), Some("s1"));
+        assert_eq!(take(End::Back), Some("s3"));
+        assert_eq!(take(End::Front), Some("s2"));
+        assert_eq!(take(End::Front), None);
+        assert_eq!(take(End::Back), None);
+    }
 
     /// Every observation and info after each run of mixed commands (resets, holds, steps in
     /// random order) on a batch of `threads` threads.
