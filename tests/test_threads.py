@@ -7,6 +7,7 @@ results however many there are."""
 
 from __future__ import annotations
 
+import pickle
 import threading
 from collections.abc import Callable
 
@@ -139,3 +140,29 @@ def test_a_vector_env_gives_the_same_rollouts_on_one_two_or_three_threads(
     for other in traces[1:]:
         for a, b in zip(traces[0], other, strict=True):
             np.testing.assert_array_equal(a, b)
+
+
+def test_a_single_env_lending_its_resets_to_a_helper_thread_gives_the_same_episodes() -> None:
+    """``CupboardSearchEnv(threads=2)``: a helper thread takes tiles of each reset's GPIS
+    grid update; observations, rewards and infos are those of one thread, a pickled copy
+    keeps the setting, and a bad value is refused naming ``threads``."""
+    traces = []
+    for threads in (1, 2):
+        env = CupboardSearchEnv(threads=threads, action_mode="probe", max_steps=3)
+        env.action_space.seed(2)
+        trace = []
+        for seed in (11, 12, 13):
+            obs, info = env.reset(seed=seed)
+            trace += [obs["map"], obs["proprio"], info["gpis_rows"]]
+            for _ in range(3):
+                obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+                trace += [obs["map"], obs["proprio"], reward, info["iou"]]
+                if terminated or truncated:
+                    break
+        traces.append(trace)
+    for a, b in zip(*traces, strict=True):
+        np.testing.assert_array_equal(a, b)
+    copy = pickle.loads(pickle.dumps(CupboardSearchEnv(threads=2)))
+    assert copy._batch.threads == 2
+    with pytest.raises((TypeError, ValueError), match="threads"):
+        CupboardSearchEnv(threads=0)

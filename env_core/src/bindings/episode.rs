@@ -420,6 +420,13 @@ impl PyEpisodeBatch {
         Ok(self.state.lock()?.parallel_seconds)
     }
 
+    /// The threads the batch runs its episodes on: the calling thread and its helpers
+    /// (more than the episodes only to share resets' grid updates, up to the cores).
+    #[getter]
+    fn threads(&self) -> PyResult<usize> {
+        Ok(self.state.lock()?.inner.threads())
+    }
+
     /// Number of episodes.
     #[getter]
     fn num_envs(&self) -> usize {

@@ -116,7 +116,10 @@ impl EpisodeBatch {
             .map(|&seed| Episode::new(config.clone(), seed))
             .collect::<Result<Vec<_>, _>>()?;
         let cores = thread::available_parallelism().map_or(1, NonZeroUsize::get);
-        let threads = threads.unwrap_or(cores).clamp(1, episodes.len().max(1));
+        // More threads than episodes only help with resets' grid tiles: up to the cores.
+        let threads = threads
+            .unwrap_or(cores)
+            .clamp(1, episodes.len().max(cores).max(1));
         let helpers = (threads > 1).then(|| {
             let tiles = Arc::new(SharedTiles::default());
             for episode in &mut episodes {
@@ -280,15 +283,23 @@ impl EpisodeBatch {
             .collect();
         // Resets first (a stable sort: otherwise in episode order).
         tasks.sort_by_key(|task| !matches!(task.command, Command::Reset(_)));
+        let resets = tasks
+            .first()
+            .is_some_and(|task| matches!(task.command, Command::Reset(_)));
         let failures = match &self.helpers {
-            Some(helpers) if tasks.len() > 1 => {
+            Some(helpers) if tasks.len() > 1 || resets => {
                 let run = helpers.begin_run();
-                let working = helpers.pool.current_num_threads().min(tasks.len() - 1);
+                // A helper with no episode to take still takes tiles of a reset's grid.
+                let helpful = if resets { usize::MAX } else { tasks.len() - 1 };
+                let working = helpers.pool.current_num_threads().min(helpful);
                 let work = Work {
                     remaining: AtomicUsize::new(tasks.len()),
                     queue: Mutex::new(tasks.into()),
                     failures: Mutex::new(Vec::new()),
                     tiles: &helpers.tiles,
+                    // A reset posts its grid job after its scene (~0.5 ms): a helper
+                    // asleep by then would cost a wake-up (70-150 µs) of the job.
+                    spin: if resets { HELPER_WARM } else { CALLER_SPIN },
                 };
                 let unfinished = AtomicUsize::new(working);
                 helpers.pool.in_place_scope(|scope| {
@@ -310,7 +321,10 @@ impl EpisodeBatch {
                         backoff.snooze();
                     }
                 });
-                helpers.keep_warm(run);
+                // A batch of one never has a step for a helper to take next.
+                if n > 1 {
+                    helpers.keep_warm(run);
+                }
                 work.failures
                     .into_inner()
                     .unwrap_or_else(PoisonError::into_inner)
@@ -374,6 +388,8 @@ struct Work<'a> {
     queue: Mutex<VecDeque<Task<'a>>>,
     failures: Mutex<Vec<(usize, EpisodeError)>>,
     tiles: &'a SharedTiles,
+    /// How long a thread with no task left spins for a grid job before it sleeps.
+    spin: Duration,
 }
 
 /// Which end of a run's queue a thread takes its steps from: the calling thread the front,
@@ -419,7 +435,7 @@ impl Work<'_> {
             }
         }
         self.tiles
-            .help_until(|| self.remaining.load(Ordering::Acquire) == 0, CALLER_SPIN);
+            .help_until(|| self.remaining.load(Ordering::Acquire) == 0, self.spin);
     }
 }
 
@@ -480,17 +496,23 @@ mod tests {
     }
 
     /// Every observation and info after each run of mixed commands (resets, holds, steps in
-    /// random order) on a batch of `threads` threads.
-    fn trace(action_mode: ActionMode, threads: usize) -> Vec<(Vec<u8>, Vec<f32>, Vec<StepInfo>)> {
+    /// random order) on a batch of `n` episodes and `threads` threads.
+    fn trace(
+        action_mode: ActionMode,
+        n: usize,
+        threads: usize,
+    ) -> Vec<(Vec<u8>, Vec<f32>, Vec<StepInfo>)> {
         let config = EpisodeConfig {
             action_mode,
             ..EpisodeConfig::default()
         };
+        assert_eq!(config.map.mode, MapMode::Gpis, "the grid tiles are shared");
         let counts = config.probe.counts();
-        let n = 6;
         let seeds: Vec<u64> = (0..n as u64).collect();
         let mut batch = EpisodeBatch::new(config, &seeds, Some(threads)).unwrap();
-        assert_eq!(batch.threads(), threads);
+        if threads <= n {
+            assert_eq!(batch.threads(), threads);
+        }
         let mut maps = vec![0u8; n * batch.map_len()];
         let mut proprio = vec![0f32; n * PROPRIO_LEN];
         let mut rng = ChaCha8Rng::seed_from_u64(3);
@@ -519,13 +541,25 @@ mod tests {
     #[test]
     fn mixed_resets_holds_and_steps_give_the_same_results_on_any_thread_count() {
         for action_mode in [ActionMode::Wrist, ActionMode::Probe] {
-            let one = trace(action_mode, 1);
+            let one = trace(action_mode, 6, 1);
             for threads in [2, 3, 6] {
                 assert!(
-                    one == trace(action_mode, threads),
+                    one == trace(action_mode, 6, threads),
                     "{action_mode:?}: {threads} threads differ from one"
                 );
             }
+        }
+    }
+
+    /// A batch of one episode (the single env) with a helper thread, which takes tiles of
+    /// its resets' grid updates, gives what one thread gives.
+    #[test]
+    fn a_batch_of_one_with_a_helper_gives_the_same_results_as_one_thread() {
+        for action_mode in [ActionMode::Wrist, ActionMode::Probe] {
+            assert!(
+                trace(action_mode, 1, 1) == trace(action_mode, 1, 2),
+                "{action_mode:?}: a helper changes a batch of one"
+            );
         }
     }
 
