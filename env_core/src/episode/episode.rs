@@ -9,7 +9,7 @@
 //! In the `probe` action mode a step is a whole probe: the controller's wrist motions, each
 //! such a step, with their rewards summed ([`super::probe`]).
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, PoisonError};
 
 use super::approach::{fingertip, ApproachField};
 use super::config::EpisodeConfig;
@@ -21,7 +21,7 @@ use super::metrics::footprint_mask;
 use super::observation::{proprio, PROPRIO_LEN};
 use super::probe::{ActionMode, Phase, ProbeController};
 use super::step_info::StepInfo;
-use crate::gpis::{Gpis, GridSpec, TileRunner};
+use crate::gpis::{Gpis, GridSpec, SerialTiles, TileRunner};
 use crate::scene::{Contact, HandCommand, Scene};
 
 /// The target's footprint widened by this much counts as reached by the approach field, m.
@@ -45,6 +45,9 @@ pub struct Episode {
     /// The map's IoU against the truth, until the map or the truth changes.
     iou: Option<f64>,
     approach: ApproachField,
+    /// Where a reset's two independent pieces (the map's prior, the approach field) and
+    /// the map's grid updates run: this thread, or a batch's idle threads too.
+    tiles: Arc<dyn TileRunner>,
     probes: ProbeController,
     last_info: StepInfo,
     /// The wrist motions of the last step (see [`Episode::last_motions`]).
@@ -73,6 +76,7 @@ impl Episode {
             truth_poses: Vec::new(),
             iou: None,
             approach: ApproachField::default(),
+            tiles: Arc::new(SerialTiles),
             probes,
             last_info: StepInfo::default(),
             last_motions: Vec::new(),
@@ -81,10 +85,11 @@ impl Episode {
         Ok(episode)
     }
 
-    /// Lets `runner` compute the map's grid updates in tiles (an episode batch shares its
-    /// threads this way); results do not change.
+    /// Lets `runner` compute the map's grid updates in tiles and a reset's two independent
+    /// pieces (an episode batch shares its threads this way); results do not change.
     pub fn share_tiles(&mut self, runner: Arc<dyn TileRunner>) {
-        self.map.share_tiles(runner);
+        self.map.share_tiles(runner.clone());
+        self.tiles = runner;
     }
 
     /// Starts the episode of `seed` (new layout, new first look, new prior).
@@ -105,14 +110,37 @@ impl Episode {
         self.iou = None;
         self.displacement_sum = 0.0;
         self.ended = false;
-        self.approach = ApproachField::new(
-            &self.grid,
-            &self.scene.jar_states(),
+        // The approach field and the map's prior need nothing of each other: two pieces of
+        // work another thread of a batch may take one of (each piece's result is the same
+        // wherever it runs). The prior goes last: whoever takes it frees the board for the
+        // grid update it posts (`SharedTiles`), so the other thread can help with that.
+        let (jars, target, camera) = (
+            self.scene.jar_states(),
             self.scene.target(),
-            APPROACH_CLEARANCE,
+            self.camera_xy(),
         );
-        let camera = self.camera_xy();
-        self.map.reset(self.scene.first_slice(), camera)?;
+        let (slice, grid) = (self.scene.first_slice(), &self.grid);
+        let map = Mutex::new(Some(&mut self.map));
+        let (map_reset, approach) = (Mutex::new(Ok(())), Mutex::new(None));
+        self.tiles.run(2, &|piece| {
+            if piece == 0 {
+                let field = ApproachField::new(grid, &jars, target, APPROACH_CLEARANCE);
+                *approach.lock().unwrap_or_else(PoisonError::into_inner) = Some(field);
+            } else {
+                let taken = map.lock().unwrap_or_else(PoisonError::into_inner).take();
+                if let Some(map) = taken {
+                    let reset = map.reset(slice, camera);
+                    *map_reset.lock().unwrap_or_else(PoisonError::into_inner) = reset;
+                }
+            }
+        });
+        self.approach = (approach
+            .into_inner()
+            .unwrap_or_else(PoisonError::into_inner))
+        .expect("the runner ran the approach field's piece");
+        map_reset
+            .into_inner()
+            .unwrap_or_else(PoisonError::into_inner)?;
         self.add_touch();
         let (mut info, _) = self.measure();
         info.iou = self.current_iou();

@@ -5,9 +5,13 @@
 //! wait. Most of that reset is the grid update of the depth prior, in tiles of cells that
 //! are independent ([`crate::gpis::tiles`]). The batch's episodes share one [`SharedTiles`]:
 //! a thread updating a grid posts the job, takes tiles itself, and the batch's threads with
-//! no episode left take the rest ([`SharedTiles::help_until`]). One job is open at a time;
-//! a second thread updating a grid meanwhile computes its own tiles. Results are bit for
-//! bit those of one thread: a tile's cells come out the same wherever it runs.
+//! no episode left take the rest ([`SharedTiles::help_until`]). One job is open at a time,
+//! until its last tile is taken; a second thread updating a grid meanwhile computes its own
+//! tiles. A job may be posted from inside a tile: a reset's two pieces (the approach field,
+//! then the map's prior) are a job, and the thread that takes the prior posts its grid
+//! update while the other, done with the field, takes tiles of it (a poster waiting for its
+//! job's last tiles works on the open job meanwhile). Results are bit for bit those of one
+//! thread: a tile's cells come out the same wherever it runs.
 //!
 //! The second module of the project with `unsafe` code (after the allocator,
 //! `direct_map`): a posted job's work borrows the grid update's data, so its lifetime is
@@ -83,12 +87,17 @@ impl Drop for CountDone<'_> {
 }
 
 impl Job {
-    /// Takes tiles and works them until none is left.
-    fn work_through(&self) {
+    /// Takes tiles and works them until none is left. The thread taking the last tile
+    /// closes the job on `board`, so that a job posted from inside a tile (a reset's grid
+    /// update, in a piece of the reset) finds the board free.
+    fn work_through(&self, board: &SharedTiles) {
         loop {
             let tile = self.next.fetch_add(1, Ordering::Relaxed);
             if tile >= self.tiles {
                 return;
+            }
+            if tile + 1 == self.tiles {
+                board.close(self);
             }
             let _done = CountDone(&self.done);
             // SAFETY: `tile < tiles` was taken and is not yet done, so the posting thread
@@ -101,6 +110,18 @@ impl Job {
 impl SharedTiles {
     fn lock_open(&self) -> MutexGuard<'_, Option<Arc<Job>>> {
         self.open.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Takes `job` off the board if it is the one open.
+    fn close(&self, job: &Job) {
+        let mut open = self.lock_open();
+        if open
+            .as_ref()
+            .is_some_and(|o| std::ptr::eq(Arc::as_ptr(o), job))
+        {
+            *open = None;
+            self.posted.store(false, Ordering::Release);
+        }
     }
 
     /// The job open for helpers, if any (a lock only when one was posted).
@@ -120,7 +141,7 @@ impl SharedTiles {
         let (mut backoff, mut waiting) = (Backoff::new(), Instant::now());
         loop {
             if let Some(job) = self.open_job() {
-                job.work_through();
+                job.work_through(self);
                 (backoff, waiting) = (Backoff::new(), Instant::now());
                 continue;
             }
@@ -178,25 +199,29 @@ impl TileRunner for SharedTiles {
         // The caller's own tiles; a panic among them is raised again only after the helpers'
         // tiles are done, so no helper calls the work after it is gone. The tiles nobody
         // took by then are counted done unworked (the update is lost with the panic anyway).
-        let own = panic::catch_unwind(AssertUnwindSafe(|| job.work_through()));
+        let own = panic::catch_unwind(AssertUnwindSafe(|| job.work_through(self)));
         if own.is_err() {
             while job.next.fetch_add(1, Ordering::Relaxed) < tiles {
                 job.done.fetch_add(1, Ordering::Release);
             }
         }
         if posted {
-            let mut open = self.lock_open();
-            if open.as_ref().is_some_and(|o| Arc::ptr_eq(o, &job)) {
-                *open = None;
-                self.posted.store(false, Ordering::Release);
+            self.close(&job);
+        }
+        // The helpers' last tiles, each at most one tile's work; meanwhile the tiles of a
+        // job one of them posted from inside its tile (the helper waits for those). A panic
+        // in those is held until this job's tiles are done, as one of its own would be.
+        let backoff = Backoff::new();
+        let mut theirs = Ok(());
+        while job.done.load(Ordering::Acquire) < tiles {
+            match self.open_job() {
+                Some(other) if own.is_ok() && theirs.is_ok() => {
+                    theirs = panic::catch_unwind(AssertUnwindSafe(|| other.work_through(self)));
+                }
+                _ => backoff.snooze(),
             }
         }
-        // The helpers' last tiles: each at most one tile's work.
-        let backoff = Backoff::new();
-        while job.done.load(Ordering::Acquire) < tiles {
-            backoff.snooze();
-        }
-        if let Err(payload) = own {
+        if let Err(payload) = own.and(theirs) {
             panic::resume_unwind(payload);
         }
     }
@@ -235,6 +260,45 @@ mod tests {
         });
         assert!(counts.iter().all(|c| c.load(Ordering::Relaxed) == 20));
         assert!(helped.load(Ordering::Relaxed) > 0, "no helper took a tile");
+        assert!(board.lock_open().is_none(), "a job was left open");
+    }
+
+    /// A reset's pieces are a job whose long, last piece posts the grid's job: taking the
+    /// last piece frees the board, so the inner job is shared too, whichever thread runs
+    /// the long piece (the other, done with the short one, takes its tiles: the poster of
+    /// the outer job while it waits, or a helper).
+    #[test]
+    fn a_job_posted_from_inside_a_tile_is_shared_too() {
+        let board = SharedTiles::default();
+        let finished = AtomicBool::new(false);
+        let counts: Vec<AtomicUsize> = (0..17).map(|_| AtomicUsize::new(0)).collect();
+        let shared = AtomicUsize::new(0);
+        thread::scope(|scope| {
+            scope.spawn(|| board.help_until(|| finished.load(Ordering::Acquire), Duration::ZERO));
+            for _ in 0..20 {
+                board.run(2, &|piece| {
+                    if piece == 0 {
+                        counts[16].fetch_add(1, Ordering::Relaxed);
+                        return;
+                    }
+                    let runner = thread::current().id();
+                    board.run(16, &|t| {
+                        counts[t].fetch_add(1, Ordering::Relaxed);
+                        if thread::current().id() != runner {
+                            shared.fetch_add(1, Ordering::Relaxed);
+                        }
+                        thread::sleep(Duration::from_micros(50));
+                    });
+                });
+            }
+            finished.store(true, Ordering::Release);
+            board.wake_all();
+        });
+        assert!(counts.iter().all(|c| c.load(Ordering::Relaxed) == 20));
+        assert!(
+            shared.load(Ordering::Relaxed) > 0,
+            "no inner tile was shared"
+        );
         assert!(board.lock_open().is_none(), "a job was left open");
     }
 
