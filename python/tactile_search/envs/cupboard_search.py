@@ -150,9 +150,10 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
     env is running raises ``RuntimeError`` (the steps would interleave in the scheduler's
     order). Give each thread its own env, or step a vector env from one thread.
     ``threads`` (default 1) is how many threads the env's own work may use: with 2 (or
-    ``None``, every core) a helper thread takes half of each reset's GPIS grid update,
-    about 1.4x faster resets with the same results (``python -m benchmarks.peer_envs
-    --variant threads=2``). Keep 1 where envs already run one per core.
+    ``None``, every core) a helper thread computes each reset's approach field and takes
+    half of its GPIS grid update, about 1.5x faster resets with the same results
+    (``python -m benchmarks.peer_envs --variant threads=2``). Keep 1 where envs already
+    run one per core.
 
     ## Version History
     - v0: first release. The ``probe`` action mode is an option (``action_mode``); the
