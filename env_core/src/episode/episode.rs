@@ -45,7 +45,7 @@ pub struct Episode {
     /// The map's IoU against the truth, until the map or the truth changes.
     iou: Option<f64>,
     approach: ApproachField,
-    /// Where a reset's two independent pieces (the map's prior, the approach field) and
+    /// Where a reset's two independent pieces (the approach field, the map's prior) and
     /// the map's grid updates run: this thread, or a batch's idle threads too.
     tiles: Arc<dyn TileRunner>,
     probes: ProbeController,
