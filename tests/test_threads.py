@@ -145,7 +145,7 @@ def test_a_vector_env_gives_the_same_rollouts_on_one_two_or_three_threads(
 def test_a_single_env_lending_its_resets_to_a_helper_thread_gives_the_same_episodes() -> None:
     """``CupboardSearchEnv(threads=2)``: a helper thread takes tiles of each reset's GPIS
     grid update; observations, rewards and infos are those of one thread, a pickled copy
-    keeps the setting, and a bad value is refused naming ``threads``."""
+    keeps the setting, and a numpy int is a count too."""
     traces = []
     for threads in (1, 2):
         env = CupboardSearchEnv(threads=threads, action_mode="probe", max_steps=3)
@@ -164,5 +164,14 @@ def test_a_single_env_lending_its_resets_to_a_helper_thread_gives_the_same_episo
         np.testing.assert_array_equal(a, b)
     copy = pickle.loads(pickle.dumps(CupboardSearchEnv(threads=2)))
     assert copy._batch.threads == 2
-    with pytest.raises((TypeError, ValueError), match="threads"):
-        CupboardSearchEnv(threads=0)
+    assert CupboardSearchEnv(threads=np.int64(2))._batch.threads == 2
+
+
+@pytest.mark.parametrize("env", [CupboardSearchEnv, CupboardSearchVectorEnv])
+def test_a_thread_count_that_is_not_a_positive_int_is_refused_naming_threads(env: type) -> None:
+    for wrong_type in (True, "2", 2.0):
+        with pytest.raises(TypeError, match=r"^threads must be a positive int or None, got "):
+            env(threads=wrong_type)
+    for wrong_value in (0, -3):
+        with pytest.raises(ValueError, match=r"^threads must be a positive int or None, got "):
+            env(threads=wrong_value)

@@ -16,6 +16,24 @@ pub(crate) fn seed_of(seed: &Bound<'_, PyAny>) -> PyResult<u64> {
         .map_err(|_| wrong_value("seed", "an int from 0 to 2**64 - 1", seed))
 }
 
+/// A thread count: a positive integer (a Python or numpy int, not a bool), or None for
+/// every core.
+pub(crate) fn threads_of(threads: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
+    const EXPECTED: &str = "a positive int or None";
+    let Some(threads) = threads.filter(|t| !t.is_none()) else {
+        return Ok(None);
+    };
+    let whole = (!threads.is_instance_of::<PyBool>())
+        .then(|| threads.extract::<i128>().ok())
+        .flatten()
+        .ok_or_else(|| wrong_type("threads", EXPECTED, threads))?;
+    usize::try_from(whole)
+        .ok()
+        .filter(|&n| n >= 1)
+        .map(Some)
+        .ok_or_else(|| wrong_value("threads", EXPECTED, threads))
+}
+
 /// An (rows, cols) float64 array owning `flat` (row-major).
 pub(crate) fn array2<'py>(
     py: Python<'py>,

@@ -14,7 +14,7 @@ use pyo3::types::{PyDict, PyList};
 
 use super::actions::action_rows;
 use super::batch_arrays::BatchArrays;
-use super::convert::seed_of;
+use super::convert::{seed_of, threads_of};
 use super::decode::{geometry_dict, map_dict, probe_motions, proprio_dict};
 use super::errors::{episode_error, episode_index_error, wrong_type, wrong_value};
 use super::exclusive::Exclusive;
@@ -116,15 +116,7 @@ impl PyEpisodeBatch {
         if seeds.is_empty() {
             return Err(wrong_value("seeds", "at least one seed", "none"));
         }
-        let threads = match threads.filter(|t| !t.is_none()) {
-            None => None,
-            Some(t) => Some(
-                t.extract::<usize>()
-                    .ok()
-                    .filter(|&n| n >= 1)
-                    .ok_or_else(|| wrong_value("threads", "a positive int or None", t))?,
-            ),
-        };
+        let threads = threads_of(threads)?;
         let config: EpisodeConfig = config_from(config, settings)?;
         let built = config.clone();
         let inner = py
