@@ -101,7 +101,7 @@ def vector_speedup(
     """Steps/s of one batch of ``num_envs`` on 1 thread (key 1) and on every core (key
     None), medians of ``rounds`` short alternating rounds of ``steps / rounds`` batch steps
     (the machine is shared: fine alternation spreads its load swings over both), random
-    actions of the env's action mode. Where the batch reports the time its episodes' work
+    actions of the env's action mode (the same stream for both). Where the batch reports the time its episodes' work
     took with the GIL released (``parallel_seconds``), also the ms per batch step of that
     parallel part and of the serial rest. ``kwargs`` go to the vector env (``copy=False``,
     ``action_mode``)."""
@@ -114,9 +114,12 @@ def vector_speedup(
     }
     for vector in envs.values():
         vector.reset(seed=0)
+    # One stream of actions per env, the same for both, going on from round to round (a
+    # stream restarted every round repeats its first steps' actions over and over).
+    streams = {threads: np.random.default_rng(0) for threads in envs}
     for _ in range(rounds):
         for threads, vector in envs.items():
-            rng = np.random.default_rng(0)
+            rng = streams[threads]
             actions = [random_actions(vector, rng) for _ in range(steps // rounds)]
             inside = getattr(vector._batch, "parallel_seconds", float("nan"))
             start = time.perf_counter()
