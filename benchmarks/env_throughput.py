@@ -8,8 +8,8 @@ Prints, per map mode (gpis, occupancy, none):
 - resident memory added per env (16 envs built, reset and stepped after the baseline);
 and the speed-up of the vector env (one Rust batch on all cores) over the same batch on one
 thread, for 8 and 16 envs in both action modes (``wrist`` and ``probe``, random actions;
-medians of alternating rounds; with ``copy=False`` too where the env has it), each with the
-machine's load average (``/proc/loadavg``) beside it. The machine is shared and noisy:
+totals over alternating rounds, resets included; with ``copy=False`` too where the env has
+it), each with the machine's load average (``/proc/loadavg``) beside it. The machine is shared and noisy:
 compare medians and ratios from one run, and distrust a speed-up measured while the load
 average is above the free cores.
 
@@ -99,23 +99,24 @@ def vector_speedup(
     mode: str, num_envs: int, steps: int, rounds: int = 12, **kwargs: object
 ) -> dict[int | None, dict[str, float]]:
     """Steps/s of one batch of ``num_envs`` on 1 thread (key 1) and on every core (key
-    None), medians of ``rounds`` short alternating rounds of ``steps / rounds`` batch steps
-    (the machine is shared: fine alternation spreads its load swings over both), random
-    actions of the env's action mode (the same stream for both). Where the batch reports the time its episodes' work
-    took with the GIL released (``parallel_seconds``), also the ms per batch step of that
-    parallel part and of the serial rest. ``kwargs`` go to the vector env (``copy=False``,
-    ``action_mode``)."""
+    None) over ``rounds`` short alternating rounds of ``steps / rounds`` batch steps (the
+    machine is shared: fine alternation spreads its load swings over both), random actions
+    of the env's action mode, one stream for each env, the same for both. The figures are
+    totals over the rounds, whole episodes with their resets: a median of rounds would
+    leave out the few rounds that hold the resets (all sub-envs time out in the same batch
+    step), as it did before issue 25's last stop. Where the batch reports the time its
+    episodes' work took with the GIL released (``parallel_seconds``), also the ms per batch
+    step of that parallel part and of the serial rest. ``kwargs`` go to the vector env
+    (``copy=False``, ``action_mode``)."""
     envs = {
         threads: CupboardSearchVectorEnv(num_envs=num_envs, threads=threads, map=mode, **kwargs)
         for threads in (1, None)
     }
-    samples: dict[int | None, dict[str, list[float]]] = {
-        t: {"rate": [], "parallel_ms": [], "serial_ms": []} for t in envs
-    }
+    totals = {t: {"steps": 0, "seconds": 0.0, "inside": 0.0} for t in envs}
     for vector in envs.values():
         vector.reset(seed=0)
-    # One stream of actions per env, the same for both, going on from round to round (a
-    # stream restarted every round repeats its first steps' actions over and over).
+    # One stream of actions per env, going on from round to round (a stream restarted
+    # every round would repeat its first steps' actions over and over).
     streams = {threads: np.random.default_rng(0) for threads in envs}
     for _ in range(rounds):
         for threads, vector in envs.items():
@@ -125,13 +126,18 @@ def vector_speedup(
             start = time.perf_counter()
             for action in actions:
                 vector.step(action)
-            total = time.perf_counter() - start
-            inside = getattr(vector._batch, "parallel_seconds", float("nan")) - inside
-            samples[threads]["rate"].append(num_envs * len(actions) / total)
-            samples[threads]["parallel_ms"].append(1e3 * inside / len(actions))
-            samples[threads]["serial_ms"].append(1e3 * (total - inside) / len(actions))
+            totals[threads]["seconds"] += time.perf_counter() - start
+            totals[threads]["inside"] += (
+                getattr(vector._batch, "parallel_seconds", float("nan")) - inside
+            )
+            totals[threads]["steps"] += len(actions)
     return {
-        t: {k: statistics.median(v) for k, v in by_key.items()} for t, by_key in samples.items()
+        t: {
+            "rate": num_envs * total["steps"] / total["seconds"],
+            "parallel_ms": 1e3 * total["inside"] / total["steps"],
+            "serial_ms": 1e3 * (total["seconds"] - total["inside"]) / total["steps"],
+        }
+        for t, total in totals.items()
     }
 
 
@@ -234,11 +240,12 @@ def main(argv: list[str] | None = None) -> None:
         if "copy" in inspect.signature(CupboardSearchVectorEnv.__init__).parameters:
             variants.append((", copy=False", {"copy": False}))
         for action_mode in args.action_modes:
-            # A probe step is 10 to 60 wrist motions: fewer batch steps measure as long.
+            # A probe step is 10 to 60 wrist motions: fewer batch steps measure as long. At
+            # the defaults a wrist-mode batch of 16 takes 1,500 steps, seven episodes each.
             per_step = 1 if action_mode == "wrist" else 5
             for num_envs in args.num_envs:
                 for label, kwargs in variants:
-                    steps = max(2 * args.steps // (num_envs * per_step), 120 // per_step, 12)
+                    steps = max(8 * args.steps // (num_envs * per_step), 120 // per_step, 12)
                     load = load_average()
                     r = vector_speedup(mode, num_envs, steps, action_mode=action_mode, **kwargs)
                     one, every = r[1], r[None]
