@@ -9,9 +9,9 @@ Prints, per map mode (gpis, occupancy, none):
 and the speed-up of the vector env (one Rust batch on all cores) over the same batch on one
 thread, for 8 and 16 envs in both action modes (``wrist`` and ``probe``, random actions;
 totals over alternating rounds, resets included; with ``copy=False`` too where the env has
-it), each with the machine's load average (``/proc/loadavg``) beside it. The machine is shared and noisy:
-compare medians and ratios from one run, and distrust a speed-up measured while the load
-average is above the free cores.
+it), each with the machine's load average (``/proc/loadavg``) beside it. The machine is
+shared and noisy: compare ratios from one run, and distrust a speed-up measured while the
+load average is above the free cores.
 
 Usage (from the repository root): ``python -m benchmarks.env_throughput [--steps 3000]
 [--modes gpis none] [--action-modes wrist probe] [--num-envs 8 16] [--vector-only]``
