@@ -9,7 +9,7 @@
 //! In the `probe` action mode a step is a whole probe: the controller's wrist motions, each
 //! such a step, with their rewards summed ([`super::probe`]).
 
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::Arc;
 
 use super::approach::{fingertip, ApproachField};
 use super::config::EpisodeConfig;
@@ -21,7 +21,7 @@ use super::metrics::footprint_mask;
 use super::observation::{proprio, PROPRIO_LEN};
 use super::probe::{ActionMode, Phase, ProbeController};
 use super::step_info::StepInfo;
-use crate::gpis::{Gpis, GridSpec, SerialTiles, TileRunner};
+use crate::gpis::{run_each, Gpis, GridSpec, SerialTiles, TileRunner};
 use crate::scene::{Contact, HandCommand, Scene};
 
 /// The target's footprint widened by this much counts as reached by the approach field, m.
@@ -120,27 +120,14 @@ impl Episode {
             self.camera_xy(),
         );
         let (slice, grid) = (self.scene.first_slice(), &self.grid);
-        let map = Mutex::new(Some(&mut self.map));
-        let (map_reset, approach) = (Mutex::new(Ok(())), Mutex::new(None));
-        self.tiles.run(2, &|piece| {
-            if piece == 0 {
-                let field = ApproachField::new(grid, &jars, target, APPROACH_CLEARANCE);
-                *approach.lock().unwrap_or_else(PoisonError::into_inner) = Some(field);
-            } else {
-                let taken = map.lock().unwrap_or_else(PoisonError::into_inner).take();
-                if let Some(map) = taken {
-                    let reset = map.reset(slice, camera);
-                    *map_reset.lock().unwrap_or_else(PoisonError::into_inner) = reset;
-                }
-            }
-        });
-        self.approach = (approach
-            .into_inner()
-            .unwrap_or_else(PoisonError::into_inner))
-        .expect("the runner ran the approach field's piece");
-        map_reset
-            .into_inner()
-            .unwrap_or_else(PoisonError::into_inner)?;
+        let (approach, map) = (&mut self.approach, &mut self.map);
+        let mut map_reset = Ok(());
+        let pieces: [Box<dyn FnOnce() + Send + '_>; 2] = [
+            Box::new(|| *approach = ApproachField::new(grid, &jars, target, APPROACH_CLEARANCE)),
+            Box::new(|| map_reset = map.reset(slice, camera)),
+        ];
+        run_each(self.tiles.as_ref(), pieces, |piece| piece());
+        map_reset?;
         self.add_touch();
         let (mut info, _) = self.measure();
         info.iou = self.current_iou();

@@ -37,7 +37,7 @@ use faer::linalg::triangular_solve::{
 };
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, Mat, MatMut, MatRef, Par};
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::Arc;
 
 use super::error::GpisError;
 use super::full_recompute::{full_posterior, posterior_from_solved, GridPosterior};
@@ -45,7 +45,7 @@ use super::grid::GridSpec;
 use super::kernel::{RowKind, ThinPlateKernel};
 use super::observation::{noise_variance, Observation, Row};
 use super::rejecting_cholesky::{factor_rejecting, GroupOutcome, RejectingFactor, RowGroup};
-use super::tiles::{SerialTiles, TileRunner};
+use super::tiles::{run_each, SerialTiles, TileRunner};
 
 /// Default ψ as a multiple of the bounds' diagonal (`docs/DESIGN.md` §3).
 pub const DEFAULT_PSI_FACTOR: f64 = 1.5;
@@ -659,7 +659,7 @@ impl Gpis {
         // `add` reserved storage for every row it could add.
         let (old_cache, rest) = self.grid_cache_t.as_mut().split_at_col_mut(held);
         let old_cache = old_cache.rb();
-        // Each tile's share of the new columns and of the grids, handed out once.
+        // Each tile's share of the new columns and of the grids.
         let mut tiles = Vec::with_capacity(n_cells.div_ceil(CELL_TILE));
         let mut cache_rest = rest.subcols_mut(0, k);
         let (mut mean_rest, mut variance_rest) = (&mut self.mean[..], &mut self.variance[..]);
@@ -669,28 +669,22 @@ impl Gpis {
             let (cache, cache_tail) = cache_rest.split_at_row_mut(cells);
             let (mean, mean_tail) = mean_rest.split_at_mut(cells);
             let (variance, variance_tail) = variance_rest.split_at_mut(cells);
-            tiles.push(Mutex::new(Some(GridTile {
+            tiles.push(GridTile {
                 first,
                 cache,
                 mean,
                 variance,
-            })));
+            });
             (cache_rest, mean_rest, variance_rest) = (cache_tail, mean_tail, variance_tail);
             first += cells;
         }
-        let update_tile = |t: usize| {
-            let Some(GridTile {
+        let update_tile = |tile: GridTile<'_>| {
+            let GridTile {
                 first,
                 mut cache,
                 mean,
                 variance,
-            }) = tiles[t]
-                .lock()
-                .unwrap_or_else(PoisonError::into_inner)
-                .take()
-            else {
-                return;
-            };
+            } = tile;
             let cells = mean.len();
             for (c, row) in rows.iter().enumerate() {
                 kernel.value_column(
@@ -714,7 +708,7 @@ impl Gpis {
             solve_lower_triangular_in_place(l22, cache.rb_mut().transpose_mut(), Par::Seq);
             fold_into_grids(cache.rb(), beta, mean, variance);
         };
-        self.tiles.run(tiles.len(), &update_tile);
+        run_each(self.tiles.as_ref(), tiles, update_tile);
     }
 
     /// Posterior mean, variance and mean gradient at arbitrary points inside the bounds.

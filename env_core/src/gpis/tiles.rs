@@ -7,6 +7,7 @@
 //! the map is bit for bit the same under any runner.
 
 use std::fmt::Debug;
+use std::sync::{Mutex, PoisonError};
 
 /// Runs `work(t)` once for every tile `t` in `0..tiles`, on the calling thread and
 /// possibly others, and returns when every call has returned.
@@ -24,4 +25,27 @@ impl TileRunner for SerialTiles {
     fn run(&self, tiles: usize, work: &(dyn Fn(usize) + Sync)) {
         (0..tiles).for_each(work);
     }
+}
+
+/// Hands each of `items` to `work` once, as the tiles of one `runner.run` (each item is
+/// taken by whichever thread runs its tile): how a grid update gives out its tiles of
+/// cells and a reset its independent pieces.
+pub fn run_each<T: Send>(
+    runner: &dyn TileRunner,
+    items: impl IntoIterator<Item = T>,
+    work: impl Fn(T) + Sync,
+) {
+    let slots: Vec<Mutex<Option<T>>> = items
+        .into_iter()
+        .map(|item| Mutex::new(Some(item)))
+        .collect();
+    runner.run(slots.len(), &|t| {
+        let item = slots[t]
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .take();
+        if let Some(item) = item {
+            work(item);
+        }
+    });
 }
