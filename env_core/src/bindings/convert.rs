@@ -23,10 +23,12 @@ pub(crate) fn threads_of(threads: Option<&Bound<'_, PyAny>>) -> PyResult<Option<
     let Some(threads) = threads.filter(|t| !t.is_none()) else {
         return Ok(None);
     };
-    let whole = (!threads.is_instance_of::<PyBool>())
-        .then(|| threads.extract::<i128>().ok())
-        .flatten()
-        .ok_or_else(|| wrong_type("threads", EXPECTED, threads))?;
+    if threads.is_instance_of::<PyBool>() {
+        return Err(wrong_type("threads", EXPECTED, threads));
+    }
+    let whole: i128 = threads
+        .extract()
+        .map_err(|_| wrong_type("threads", EXPECTED, threads))?;
     usize::try_from(whole)
         .ok()
         .filter(|&n| n >= 1)

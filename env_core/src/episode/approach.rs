@@ -151,7 +151,7 @@ fn path_distances(
         }
     }
     (0..h)
-        .flat_map(|i| distance[interior(i)].to_vec())
+        .flat_map(|i| distance[interior(i)].iter().copied())
         .collect()
 }
 
@@ -188,9 +188,7 @@ impl BucketQueue {
             pending: 0,
         }
     }
-}
 
-impl BucketQueue {
     /// Queues `cell` at `distance` (finite, at least the distance of the cell last popped).
     fn push(&mut self, cell: usize, distance: f64) {
         let bucket = (distance / self.width) as usize;

@@ -13,9 +13,9 @@
 //! at once; past that it sleeps, so an idle batch costs no CPU. The tasks, one per episode
 //! that steps or resets, are taken one at a time from a shared queue, resets first (then
 //! the calling thread takes steps from its front and the helpers from its back, so that an
-//! episode tends to stay on one thread and in its core's cache): a reset
-//! costs as much as about 150 wrist steps, so one started last would leave the other
-//! threads idle while it runs alone. Even first, a reset outlasts the other threads' share
+//! episode tends to stay on one thread and in its core's cache): a reset costs as much as
+//! about 150 wrist steps, so one started last would leave the other threads idle while it
+//! runs alone. Even first, a reset outlasts the other threads' share
 //! of a wrist-mode step; so the episodes share one job board ([`SharedTiles`]), and a
 //! thread with no task left helps with the tiles of cells of a grid update still running
 //! on another (the bulk of a GPIS reset) before it waits. Each task writes its episode's
@@ -382,7 +382,8 @@ struct Task<'a> {
 }
 
 /// A run's tasks shared by its threads: the queue (resets first, then the steps in episode
-/// order; see [`take_next`]), how many tasks are not yet done, the failures with their episode's index, and the job board of grid tiles.
+/// order; see [`take_next`]), how many tasks are not yet done, the failures with their
+/// episode's index, and the job board of grid tiles.
 struct Work<'a> {
     remaining: AtomicUsize,
     queue: Mutex<VecDeque<Task<'a>>>,
