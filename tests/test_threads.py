@@ -7,9 +7,12 @@ results however many there are."""
 
 from __future__ import annotations
 
+import multiprocessing
 import pickle
+import queue
 import threading
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 import pytest
@@ -165,6 +168,49 @@ def test_a_single_env_lending_its_resets_to_a_helper_thread_gives_the_same_episo
     copy = pickle.loads(pickle.dumps(CupboardSearchEnv(threads=2)))
     assert copy._batch.threads == 2
     assert CupboardSearchEnv(threads=np.int64(2))._batch.threads == 2
+
+
+def random_steps(env: object, count: int) -> list[np.ndarray]:
+    """``count`` steps of ``env``'s seeded random actions: each step's observation arrays
+    and reward (a single env resets when its episode ends; a vector env autoresets)."""
+    trace = []
+    for _ in range(count):
+        obs, reward, terminated, truncated, _ = env.step(env.action_space.sample())
+        trace += [*(np.asarray(obs[key]) for key in sorted(obs)), np.asarray(reward)]
+        if isinstance(env, CupboardSearchEnv) and (terminated or truncated):
+            env.reset()
+    return trace
+
+
+def step_in_the_child(env: object, count: int, results: Any) -> None:
+    results.put(random_steps(env, count))
+
+
+@pytest.mark.parametrize("env_type", [CupboardSearchEnv, CupboardSearchVectorEnv])
+def test_an_env_forked_with_its_helper_threads_steps_on_in_the_child(env_type: type) -> None:
+    """A fork copies only the forking thread: the child's env starts helpers of its own
+    rather than wait for ever on the parent's (``multiprocessing`` forks a process that
+    holds an env). Its steps are those the parent takes with the same actions."""
+    kwargs = {"num_envs": 3} if env_type is CupboardSearchVectorEnv else {}
+    env = env_type(threads=2, action_mode="probe", max_steps=4, **kwargs)
+    env.reset(seed=21)
+    env.action_space.seed(5)
+    random_steps(env, 2)  # the helpers have run in the parent
+    context = multiprocessing.get_context("fork")
+    results = context.Queue()
+    child = context.Process(target=step_in_the_child, args=(env, 12, results))
+    child.start()
+    try:
+        in_child = results.get(timeout=120)
+    except queue.Empty:
+        pytest.fail("the forked env did not finish 12 steps in 120 s: it waits on helpers")
+    finally:
+        child.join(timeout=10)
+        if child.is_alive():
+            child.kill()
+    assert child.exitcode == 0
+    for a, b in zip(random_steps(env, 12), in_child, strict=True):
+        np.testing.assert_array_equal(a, b)
 
 
 @pytest.mark.parametrize("env", [CupboardSearchEnv, CupboardSearchVectorEnv])

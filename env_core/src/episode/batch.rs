@@ -81,9 +81,28 @@ struct Helpers {
     runs: Arc<AtomicU64>,
     /// The job board every episode's grid updates go through.
     tiles: Arc<SharedTiles>,
+    /// The process whose threads `pool` holds (see [`EpisodeBatch::restart_helpers_after_fork`]).
+    process: u32,
 }
 
 impl Helpers {
+    /// `count` helper threads and a job board that every episode's grid updates go through.
+    fn start(count: usize, episodes: &mut [Episode]) -> Self {
+        let tiles = Arc::new(SharedTiles::default());
+        for episode in episodes {
+            episode.share_tiles(tiles.clone());
+        }
+        Self {
+            pool: ThreadPoolBuilder::new()
+                .num_threads(count)
+                .build()
+                .expect("the OS can start the batch's helper threads"),
+            runs: Arc::new(AtomicU64::new(0)),
+            tiles,
+            process: std::process::id(),
+        }
+    }
+
     /// Starts a run: wakes the helpers kept warm after the last one. Returns its number.
     fn begin_run(&self) -> u64 {
         self.runs.fetch_add(1, Ordering::AcqRel) + 1
@@ -120,20 +139,7 @@ impl EpisodeBatch {
         let threads = threads
             .unwrap_or(cores)
             .clamp(1, episodes.len().max(cores).max(1));
-        let helpers = (threads > 1).then(|| {
-            let tiles = Arc::new(SharedTiles::default());
-            for episode in &mut episodes {
-                episode.share_tiles(tiles.clone());
-            }
-            Helpers {
-                pool: ThreadPoolBuilder::new()
-                    .num_threads(threads - 1)
-                    .build()
-                    .expect("the OS can start the batch's helper threads"),
-                runs: Arc::new(AtomicU64::new(0)),
-                tiles,
-            }
-        });
+        let helpers = (threads > 1).then(|| Helpers::start(threads - 1, &mut episodes));
         Ok(Self {
             episodes,
             threads,
@@ -251,6 +257,7 @@ impl EpisodeBatch {
             });
         }
         self.check_buffers(maps, proprio)?;
+        self.restart_helpers_after_fork();
         for (index, command) in commands.iter().enumerate() {
             if let Command::Step(action) = command {
                 self.episodes[index]
@@ -281,12 +288,13 @@ impl EpisodeBatch {
                 proprio,
             })
             .collect();
+        let helpers = self.helpers.as_ref();
         // Resets first (a stable sort: otherwise in episode order).
         tasks.sort_by_key(|task| !matches!(task.command, Command::Reset(_)));
         let resets = tasks
             .first()
             .is_some_and(|task| matches!(task.command, Command::Reset(_)));
-        let failures = match &self.helpers {
+        let failures = match helpers {
             Some(helpers) if tasks.len() > 1 || resets => {
                 let run = helpers.begin_run();
                 // A helper with no episode to take still takes tiles of a reset's grid.
@@ -338,6 +346,23 @@ impl EpisodeBatch {
         match failures.into_iter().min_by_key(|(index, _)| *index) {
             Some((index, error)) => Err(error.in_episode(index)),
             None => Ok(()),
+        }
+    }
+
+    /// Starts the helper threads again in a process forked from the one that started them.
+    /// A `fork` copies only the forking thread: the child's pool would queue the run's
+    /// jobs for threads that are not there, and the run would wait for them for ever
+    /// (Python's `multiprocessing` forks a process holding an env). The child's batch
+    /// starts its own helpers instead; the old pool is left alone, not dropped: its threads
+    /// and whatever locks they held belong to the parent. Cost: a `getpid` per run.
+    fn restart_helpers_after_fork(&mut self) {
+        let Some(helpers) = &self.helpers else {
+            return;
+        };
+        if helpers.process != std::process::id() {
+            let count = helpers.pool.current_num_threads();
+            std::mem::forget(self.helpers.take());
+            self.helpers = Some(Helpers::start(count, &mut self.episodes));
         }
     }
 
