@@ -60,7 +60,8 @@ bench: build-dev $(VENV)/.extra-bench $(VENV)/.extra-scale ## criterion benchmar
 	cargo run --release --quiet -p env_core --example batch_scaling
 	$(PY) -m benchmarks.prior_rows
 	$(PY) -m benchmarks.peer_envs --json results/peer_envs.json
-	$(PY) -m benchmarks.peer_envs --maps gpis --probe-maps gpis --variant threads=2 --json results/peer_envs_threads.json
+	$(PY) -m benchmarks.peer_envs --maps gpis --probe-maps gpis --variant threads=1 --json results/peer_envs_threads.json
+	$(PY) -m benchmarks.env_threads_side_by_side
 	$(PY) -m benchmarks.learner_speed
 	$(PY) -m benchmarks.env_throughput --vector-only --action-modes wrist probe
 	$(PY) -m benchmarks.vector_overhead

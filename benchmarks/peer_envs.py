@@ -27,7 +27,8 @@ driven by random actions from its own seeded ``action_space``. It measures, per 
 
 ``--variant KEY=VALUE ...`` adds each of our envs once more with those settings, in the same
 rounds (``--variant fast_free_motion=false``: every wrist command stepped, the environment
-before its fast path of free motion became the default).
+before its fast path of free motion became the default; ``--variant threads=1``: the single
+env without the helper thread it lends its resets to by default).
 
 Needs MuJoCo (gymnasium's MuJoCo envs): ``pip install -e '.[bench]'`` (``make bench`` does).
 

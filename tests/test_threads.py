@@ -167,6 +167,11 @@ def test_a_single_env_lending_its_resets_to_a_helper_thread_gives_the_same_episo
         np.testing.assert_array_equal(a, b)
     copy = pickle.loads(pickle.dumps(CupboardSearchEnv(threads=2)))
     assert copy._batch.threads == 2
+    # The default: a helper wherever there is a second core (as many threads as cores
+    # is what the vector env of one episode takes by default).
+    cores = CupboardSearchVectorEnv(num_envs=1)._batch.threads
+    assert CupboardSearchEnv()._batch.threads == min(2, cores)
+    assert CupboardSearchEnv(threads=1)._batch.threads == 1
     assert CupboardSearchEnv(threads=np.int64(2))._batch.threads == 2
 
 

@@ -149,11 +149,13 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
     One env serves one thread at a time: a call while another thread's call on the same
     env is running raises ``RuntimeError`` (the steps would interleave in the scheduler's
     order). Give each thread its own env, or step a vector env from one thread.
-    ``threads`` (default 1) is how many threads the env's own work may use: with 2 (or
-    ``None``, every core) a helper thread computes each reset's approach field and takes
-    half of its GPIS grid update, about 1.5x faster resets with the same results
-    (``python -m benchmarks.peer_envs --variant threads=2``). Keep 1 where envs already
-    run one per core.
+    ``threads`` (default 2; 1 on a one-core machine) is how many threads the env's own
+    work may use: beside the calling thread, a helper computes each reset's approach field
+    and takes half of its GPIS grid update, about 1.5x faster resets with the same results
+    (``python -m benchmarks.peer_envs --variant threads=1``). The helper sleeps between
+    resets, and where processes already fill the cores it costs nothing measurable
+    (``python -m benchmarks.env_threads_side_by_side``); ``threads=1`` starts none,
+    ``None`` gives every core.
 
     ## Version History
     - v0: first release. The ``probe`` action mode is an option (``action_mode``); the
@@ -170,7 +172,7 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
     _episode_index = 0
 
     def __init__(
-        self, render_mode: str | None = None, threads: int | None = 1, **settings: Any
+        self, render_mode: str | None = None, threads: int | None = 2, **settings: Any
     ) -> None:
         EzPickle.__init__(self, render_mode=render_mode, threads=threads, **settings)
         if render_mode not in (None, "rgb_array"):
