@@ -45,7 +45,7 @@ def rss_mib() -> float:
 
 def run_policy(mode: str, policy: str, steps: int, seed: int) -> dict[str, float]:
     """Steps one env for ``steps`` steps over whole episodes; returns timings."""
-    env = CupboardSearchEnv(map=mode)
+    env = CupboardSearchEnv(map=mode, threads=1)
     rng = np.random.default_rng(seed)
     resets, step_times, by_index = [], [], {}
     episode_seed = seed
