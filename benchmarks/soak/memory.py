@@ -82,15 +82,15 @@ LIVE_HEAP_NOTE = (
 
 
 def live_heap_bytes() -> int:
-    """Bytes the program holds from malloc now: glibc's ``mallinfo2`` (summed over every
-    arena) in-use chunks ``uordblks`` plus directly mmapped blocks ``hblkhd``, plus the
-    core's blocks of 1 MiB or more, which its allocator maps itself
-    (``_core.direct_mapped_bytes()``); -1 without glibc. Unlike RSS it does not count free
-    memory the allocator keeps or cannot return (fragmentation), so growth here is memory
-    still referenced: a leak. It covers the Rust core, numpy's buffers and Python's large
-    objects; Python's small objects live in pymalloc's own mmapped arenas
-    (``sys.getallocatedblocks()``, printed beside it)."""
+    """Bytes the program holds from its allocators now: glibc's ``mallinfo2`` (summed over
+    every arena) in-use chunks ``uordblks`` plus directly mmapped blocks ``hblkhd``, plus the
+    Rust core's live blocks, which its own allocator counts (``_core.allocated_bytes()``:
+    mimalloc's small blocks and the maps of 1 MiB or more, none of which glibc sees); -1
+    without glibc. Unlike RSS it does not count free memory an allocator keeps or cannot
+    return (fragmentation), so growth here is memory still referenced: a leak. It covers
+    the Rust core, numpy's buffers and Python's large objects; Python's small objects live
+    in pymalloc's own mmapped arenas (``sys.getallocatedblocks()``, printed beside it)."""
     if MALLINFO2 is None:
         return -1
     info = MALLINFO2()
-    return int(info.uordblks + info.hblkhd) + _core.direct_mapped_bytes()
+    return int(info.uordblks + info.hblkhd) + _core.allocated_bytes()

@@ -8,13 +8,13 @@
 //!   the scene and episode configs declare once and everything else reads.
 //! - [`episode`]: mechanical-search episodes (map from depth and touch, reward, episode end)
 //!   and a batch of them stepped in parallel.
-//! - [`direct_map`]: the global allocator (malloc, with big blocks mapped and returned to
-//!   the system when freed, so resident memory stays flat).
+//! - [`allocator`]: the global allocator (mimalloc, with big blocks mapped and returned to
+//!   the system when freed, so resident memory stays flat; it counts the bytes it holds).
 //!
 //! The pyo3 bindings live in the `bindings` module behind the `python` cargo feature, so that
 //! `cargo test` builds and runs without a Python interpreter.
 
-pub mod direct_map;
+pub mod allocator;
 pub mod episode;
 pub mod gpis;
 pub mod scene;
@@ -24,4 +24,4 @@ pub mod settings;
 mod bindings;
 
 #[global_allocator]
-static ALLOCATOR: direct_map::DirectMapAllocator = direct_map::DirectMapAllocator;
+static ALLOCATOR: allocator::CoreAllocator = allocator::CoreAllocator;

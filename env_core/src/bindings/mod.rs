@@ -32,11 +32,17 @@ mod step_info;
 use pyo3::prelude::*;
 
 /// Bytes of the core's blocks of at least 1 MiB, which its allocator maps directly and
-/// returns to the system when they are freed (`env_core::direct_map`); glibc's `mallinfo2`
-/// does not count them.
+/// returns to the system when they are freed (`env_core::allocator`).
 #[pyfunction]
 fn direct_mapped_bytes() -> usize {
-    crate::direct_map::direct_mapped_bytes()
+    crate::allocator::direct_mapped_bytes()
+}
+
+/// Bytes the core holds now, every live block of its allocator (mimalloc's and the mapped
+/// ones; `env_core::allocator`): glibc's `mallinfo2` counts none of them.
+#[pyfunction]
+fn allocated_bytes() -> usize {
+    crate::allocator::allocated_bytes()
 }
 
 /// The compiled core of `tactile_search`.
@@ -52,6 +58,7 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(observation::observation_layout, m)?)?;
     m.add_function(wrap_pyfunction!(step_info::step_info_fields, m)?)?;
     m.add_function(wrap_pyfunction!(direct_mapped_bytes, m)?)?;
+    m.add_function(wrap_pyfunction!(allocated_bytes, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

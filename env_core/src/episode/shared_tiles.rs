@@ -14,7 +14,7 @@
 //! thread: a tile's cells come out the same wherever it runs.
 //!
 //! The second module of the project with `unsafe` code (after the allocator,
-//! `direct_map`): a posted job's work borrows the grid update's data, so its lifetime is
+//! `allocator`): a posted job's work borrows the grid update's data, so its lifetime is
 //! erased while other threads may call it. It holds because [`SharedTiles::run`] returns
 //! (or unwinds) only after every tile taken has been worked, and no tile is taken after
 //! that: the scoped-thread pattern of rayon's and crossbeam's scopes, which cannot serve
