@@ -39,11 +39,9 @@ def worker(threads: int, start: float, seconds: float, seed: int) -> None:
     and prints ``{"probes_per_s": ...}``."""
     import gymnasium as gym
 
-    import tactile_search  # noqa: F401  (registers the env)
+    from tactile_search import ENV_ID  # importing the package registers the env
 
-    env = gym.make(
-        "tactile_search/CupboardSearch-v0", action_mode="probe", map="gpis", threads=threads
-    )
+    env = gym.make(ENV_ID, action_mode="probe", map="gpis", threads=threads)
     env.action_space.seed(seed)
     env.reset(seed=seed)
     time.sleep(max(0.0, start - time.time()))

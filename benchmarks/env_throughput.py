@@ -104,10 +104,9 @@ def vector_speedup(
     of the env's action mode, one stream for each env, the same for both. The figures are
     totals over the rounds, whole episodes with their resets: a median of rounds would
     leave out the few rounds that hold the resets (all sub-envs time out in the same batch
-    step), as it did before issue 25's last stop. Where the batch reports the time its
-    episodes' work took with the GIL released (``parallel_seconds``), also the ms per batch
-    step of that parallel part and of the serial rest. ``kwargs`` go to the vector env
-    (``copy=False``, ``action_mode``)."""
+    step). Where the batch reports the time its episodes' work took with the GIL released
+    (``parallel_seconds``), also the ms per batch step of that parallel part and of the
+    serial rest. ``kwargs`` go to the vector env (``copy=False``, ``action_mode``)."""
     envs = {
         threads: CupboardSearchVectorEnv(num_envs=num_envs, threads=threads, map=mode, **kwargs)
         for threads in (1, None)

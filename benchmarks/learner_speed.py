@@ -66,8 +66,9 @@ ABLATIONS = Path("docs/results/ablations_speed")
 #: name -> (the map mode, the recipe file (None: agents/hyperparams/ppo.yml), the
 #: features extractor put in its policy_kwargs: "keep" the recipe's, None for SB3's default
 #: CombinedExtractor, or a dotted class path with default kwargs).
-#: The encoder variants compare against ``impala_factorised`` (the recipe before issue 24's
-#: spatial probe head: the IMPALA encoder and SB3's factorised head).
+#: The encoder variants compare against ``impala_factorised`` (the IMPALA encoder with SB3's
+#: factorised action head, in place of the recipe's spatial probe head), so that they differ
+#: from it only in the encoder.
 FACTORISED = ABLATIONS / "impala_factorised.yml"
 VARIANTS: dict[str, tuple[str, Path | None, str | None]] = {
     "recipe": ("gpis", None, "keep"),

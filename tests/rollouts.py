@@ -1,21 +1,12 @@
 """Short seeded rollouts of every env face, reduced to arrays, for the pinned-rollout test.
 
-``python tests/rollouts.py --out tests/data/rollouts.npz`` records them. The file in the
-repo was recorded after the vector env took gymnasium's ``SyncVectorEnv`` seeding (issue
-26): each sub-env draws its autoresets' layouts from its own generator, so the vector face's
-rollouts differ from their first autoreset on (the single and SB3 faces' arrays were checked
-unchanged). The file before was recorded after the GPIS reset speed work (issue 25), which
-changed what a seed gives on purpose: the depth prior keeps at most 64 points
-(``max_prior_depth_points``, was 96), so every GPIS map differs from the first observation
-on; the exact grid-update changes before it were checked unchanged against the previous
-file. That file was recorded after the physics and reset speed work (issue 14), which
-changed on purpose: two physics substeps of 1/120 s with 4 solver iterations (were four of
-1/240 s with 8), jars that start asleep, the GPIS kernel's distance by ``sqrt`` (was
-``hypot``) and map bytes rounded half up by truncation (was ``round``). Before that it was
-recorded on commit 5c0301c, before the copy-free step path; the render and wall-check
-changes of the speed work were checked bit-identical against that file before it was
-re-recorded. ``tests/test_rollouts_pinned.py`` checks that the step path keeps giving the same
-observations, rewards and infos bit for bit. Runs against the old and the new API alike.
+``python tests/rollouts.py --out tests/data/rollouts.npz`` records them.
+``tests/test_rollouts_pinned.py`` checks that the step path keeps giving the same
+observations, rewards and infos bit for bit, so a change meant to keep what a seed gives
+(a faster path, a refactor) is checked against the file. Re-record it only for a change
+that alters what a seed gives on purpose (physics settings, the prior's size, seeding),
+after checking that the faces it should not touch give the arrays they gave; the commit
+that re-records it says why. Runs against the old and the new API alike.
 """
 
 from __future__ import annotations

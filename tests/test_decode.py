@@ -1,8 +1,8 @@
 """The core's decoders and static geometry (``env.decode_map``, ``env.decode_proprio``,
 ``env.geometry``): the inverse of the encodings within their quantisation step, bit for bit
-equal to the formulas the scripted planner used to type by hand (so switching to them changes
-nothing), the geometry equal to what a ``Scene`` reports, and bad input refused with
-``TypeError`` / ``ValueError`` naming what was expected and what came."""
+equal to the formulas written out here (what a planner would otherwise type by hand), the
+geometry equal to what a ``Scene`` reports, and bad input refused with ``TypeError`` /
+``ValueError`` naming what was expected and what came."""
 
 from __future__ import annotations
 

@@ -521,7 +521,7 @@ def test_a_recurrent_student_is_cloned_on_whole_episodes_and_learns_what_needs_m
 
 
 def test_every_learned_agent_gets_the_same_clone_stage_and_fine_tuning_budget() -> None:
-    """Fair controls (issue 24): every recipe clones the same teacher with the same settings
+    """Fair controls: every recipe clones the same teacher with the same settings
     and fine-tunes for the same number of probes with the same reward."""
     from agents.sb3.recipes import load_hyperparams
 

@@ -18,7 +18,7 @@ It asserts (each check prints PASS or FAIL, and the exit status is 1 if any fail
     Without glibc (or before 2.33) it is skipped with a printed note. Python's small objects
     live in pymalloc's own arenas, outside malloc: ``sys.getallocatedblocks()`` is printed
     beside it;
-  - resident memory flat (the issue's check): RSS after ``malloc_trim(0)`` (from
+  - resident memory flat: RSS after ``malloc_trim(0)`` (from
     ``/proc/self/statm``), the same comparison. This also counts the heap's fragmentation:
     freed chunks glibc cannot return because live ones share their pages. Measured alone
     (16 GPIS envs, one worker thread, 4000 batch steps of forward-biased random actions),

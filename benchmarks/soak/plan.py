@@ -19,8 +19,8 @@ ACTION_KINDS = ("random", "forward", "out_of_range", "invalid", "oracle")
 
 # ---- the limits the checks hold a run to (``benchmarks.soak.analysis``) -------------------
 #: Largest growth after the warm-up of the live heap (the leak check) and of the resident
-#: memory after ``malloc_trim`` (issue 25's "within 2 % of the warm-up's"), as a fraction of
-#: the last warm-up round's peak. (A full run with every env parked: +0.09 % and +0.28 %.)
+#: memory after ``malloc_trim`` ("within 2 % of the warm-up's"), as a fraction of the last
+#: warm-up round's peak.
 LIVE_GROWTH_LIMIT = 0.02
 RSS_GROWTH_LIMIT = 0.02
 #: Largest ratio of late to early median step time through the run (after the control).
