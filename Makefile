@@ -9,7 +9,7 @@ export VIRTUAL_ENV := $(abspath $(VENV))
 export PATH := $(abspath $(VENV))/bin:$(PATH)
 
 .DEFAULT_GOAL := help
-.PHONY: help demo results test test-env build build-dev bench fuzz lint rust-lint python-lint format clean paper stubs
+.PHONY: help demo results test test-env build build-dev bench performance fuzz lint rust-lint python-lint format clean paper stubs
 
 help: ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  %-10s %s\n", $$1, $$2}'
@@ -51,22 +51,30 @@ test-env: ## the venv with every extra the tests need, and the release build, on
 paper: build ## regenerate docs/paper/ figures and docs/PAPER.md's table (experiments/paper)
 	$(PY) -m experiments.paper --out docs/paper
 
-bench: build-dev $(VENV)/.extra-bench $(VENV)/.extra-scale ## criterion benchmarks and the Python benchmark scripts (prints figures)
+bench: build-dev $(VENV)/.extra-bench $(VENV)/.extra-scale ## every benchmark: prints its figures, writes them to results/*.json, then renders docs/PERFORMANCE.md
 	cargo bench -p env_core --bench gpis_append
 	cargo bench -p env_core --bench scene
 	cargo bench -p env_core --bench probe
-	$(PY) -m benchmarks.gpis_append --out results/gpis_append.png
+	$(PY) -m benchmarks.performance_page --collect-criterion target/criterion --results results
+	$(PY) -m benchmarks.gpis_append --out results/gpis_append.png --json results/gpis_append.json
 	cargo run --release --quiet -p env_core --example physics_tradeoffs
 	cargo run --release --quiet -p env_core --example batch_scaling
-	$(PY) -m benchmarks.prior_rows
+	$(PY) -m benchmarks.prior_rows --json results/prior_rows.json
 	$(PY) -m benchmarks.peer_envs --json results/peer_envs.json
 	$(PY) -m benchmarks.peer_envs --maps gpis --probe-maps gpis --variant threads=1 --json results/peer_envs_threads.json
-	$(PY) -m benchmarks.env_threads_side_by_side
-	$(PY) -m benchmarks.learner_speed
-	$(PY) -m benchmarks.env_throughput --vector-only --action-modes wrist probe
-	$(PY) -m benchmarks.vector_overhead
+	$(PY) -m benchmarks.env_threads_side_by_side --json results/env_threads_side_by_side.json
+	$(PY) -m benchmarks.learner_speed --json results/learner_speed.json
+	$(PY) -m benchmarks.env_throughput --vector-only --action-modes wrist probe --json results/env_throughput.json
+	$(PY) -m benchmarks.vector_overhead --json results/vector_overhead.json
 	$(PY) -m benchmarks.soak --out results/soak.png --json results/soak.json
 	$(PY) -m benchmarks.ray_grid --json results/ray_grid.json
+	$(MAKE) --no-print-directory performance
+
+# The page in the repository is rendered from docs/performance/ (make performance
+# PERFORMANCE_RESULTS=docs/performance), whose JSON files are committed beside it.
+PERFORMANCE_RESULTS ?= results
+performance: | $(VENV)/bin/python ## render docs/PERFORMANCE.md from the benchmarks' JSON in results/ (runs none)
+	$(PY) -m benchmarks.performance_page --results $(PERFORMANCE_RESULTS) --out docs/PERFORMANCE.md
 
 fuzz: build-dev ## the long fuzz run: the Rust and Python property tests with many cases (prints counts)
 	PROPTEST_CASES=25000 cargo test --release -p env_core --test fuzz_gpis --test fuzz_settings_and_actions

@@ -14,7 +14,7 @@ round, then per process count the median machine rate of each setting and their 
 with the load average. From the repository root::
 
     python -m benchmarks.env_threads_side_by_side [--processes 1 2 4 8] [--rounds 3]
-        [--seconds 8]
+        [--seconds 8] [--json results/env_threads_side_by_side.json]
 """
 
 from __future__ import annotations
@@ -26,8 +26,10 @@ import statistics
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 from benchmarks.arguments import positive_int
+from benchmarks.performance_page import write_json
 
 THREAD_COUNTS = (1, 2)
 #: Seconds between launching a round's processes and their common start (their imports).
@@ -89,6 +91,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--rounds", type=positive_int, default=3)
     parser.add_argument("--seconds", type=float, default=8.0)
     parser.add_argument("--seed", type=int, default=1_000_000)
+    parser.add_argument("--json", type=Path, default=None, help="write the figures here too")
     args = parser.parse_args(argv)
     if not args.seconds > 0:
         parser.error(f"--seconds must be > 0, got {args.seconds}")
@@ -106,9 +109,22 @@ def main(argv: list[str] | None = None) -> None:
                     flush=True,
                 )
     print("median machine rate: threads=1, threads=2, ratio")
+    medians = []
     for processes in args.processes:
         one, two = (statistics.median(rates[(processes, t)]) for t in THREAD_COUNTS)
         print(f"  {processes} processes: {one:8.1f}  {two:8.1f}  {two / one:5.2f}x")
+        medians.append(
+            {"processes": processes, "threads_1": one, "threads_2": two, "ratio": two / one}
+        )
+    if args.json is not None:
+        figures = {
+            "cores": cores, "rounds": args.rounds, "seconds": args.seconds, "medians": medians,
+            "rounds_probes_per_s": [
+                {"processes": p, "threads": t, "probes_per_s": values}
+                for (p, t), values in rates.items()
+            ],
+        }  # fmt: skip
+        write_json(args.json, "benchmarks.env_threads_side_by_side", argv, figures)
 
 
 if __name__ == "__main__":

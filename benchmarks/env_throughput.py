@@ -14,7 +14,9 @@ shared and noisy: compare ratios from one run, and distrust a speed-up measured 
 load average is above the free cores.
 
 Usage (from the repository root): ``python -m benchmarks.env_throughput [--steps 3000]
-[--modes gpis none] [--action-modes wrist probe] [--num-envs 8 16] [--vector-only]``
+[--modes gpis none] [--action-modes wrist probe] [--num-envs 8 16] [--vector-only]
+[--json results/env_throughput.json]`` (``--json``: the figures for ``docs/PERFORMANCE.md``,
+``benchmarks.performance_page``)
 """
 
 from __future__ import annotations
@@ -25,11 +27,13 @@ import multiprocessing
 import os
 import statistics
 import time
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 from gymnasium.spaces import MultiDiscrete
 
+from benchmarks.performance_page import write_json
 from tactile_search import CupboardSearchEnv, CupboardSearchVectorEnv
 from tactile_search.envs.config import ACTION_MODES, MAP_MODES
 
@@ -217,17 +221,27 @@ def main(argv: list[str] | None = None) -> None:
         help="vector env action modes",
     )
     parser.add_argument("--vector-only", action="store_true", help="only the vector env speed-ups")
+    parser.add_argument("--json", type=Path, default=None, help="write the figures here too")
     args = parser.parse_args(argv)
+    figures: dict[str, Any] = {
+        "controls": {}, "single": [], "vector": [], "memory_mib_per_env": {},
+    }  # fmt: skip
+    controls = figures["controls"]
     print(f"cores: {os.cpu_count()}; shared, noisy machine: medians from one run")
-    print(f"control: two CPU-bound processes get {free_cores():.2f}x the work of one")
+    controls["free_cores_before"] = free_cores()
+    print(
+        f"control: two CPU-bound processes get {controls['free_cores_before']:.2f}x the work of one"
+    )
+    controls["synced_free_cores"] = synced_free_cores()
     print(
         f"control: two processes meeting after every burst of a few ms get "
-        f"{synced_free_cores():.2f}x the work of one"
+        f"{controls['synced_free_cores']:.2f}x the work of one"
     )
     for mode in args.modes:
         print(f"\n== map={mode}")
         for policy in () if args.vector_only else ("random", "oracle"):
             r = run_policy(mode, policy, args.steps, seed=0)
+            figures["single"].append({"map": mode, "policy": policy, **r})
             flat = " ".join(f"{25 * k}+:{v:.2f}" for k, v in r["by_index"].items())
             print(
                 f"  {policy:>6}: {r['steps_per_s']:7.0f} steps/s over {r['episodes']} episodes "
@@ -248,6 +262,15 @@ def main(argv: list[str] | None = None) -> None:
                     load = load_average()
                     r = vector_speedup(mode, num_envs, steps, action_mode=action_mode, **kwargs)
                     one, every = r[1], r[None]
+                    figures["vector"].append({
+                        "map": mode, "action_mode": action_mode, "num_envs": num_envs,
+                        "copy": kwargs.get("copy", True), "batch_steps": steps,
+                        "rate_one_thread": one["rate"], "rate_all_cores": every["rate"],
+                        "speedup": every["rate"] / one["rate"],
+                        "load_before": load, "load_after": load_average(),
+                        "parallel_ms": [one["parallel_ms"], every["parallel_ms"]],
+                        "serial_ms": [one["serial_ms"], every["serial_ms"]],
+                    })  # fmt: skip
                     print(
                         f"  vector env ({action_mode}, {num_envs} envs{label}): "
                         f"{one['rate']:.0f} steps/s on 1 thread, {every['rate']:.0f} on all "
@@ -262,8 +285,14 @@ def main(argv: list[str] | None = None) -> None:
                             f"{one['serial_ms']:.3f} / {every['serial_ms']:.3f} ms"
                         )
         if not args.vector_only:
-            print(f"  resident memory added per env: {memory_per_env(mode):.2f} MiB")
-    print(f"control: two CPU-bound processes get {free_cores():.2f}x the work of one")
+            figures["memory_mib_per_env"][mode] = memory_per_env(mode)
+            print(f"  resident memory added per env: {figures['memory_mib_per_env'][mode]:.2f} MiB")
+    controls["free_cores_after"] = free_cores()
+    print(
+        f"control: two CPU-bound processes get {controls['free_cores_after']:.2f}x the work of one"
+    )
+    if args.json is not None:
+        write_json(args.json, "benchmarks.env_throughput", argv, figures)
 
 
 if __name__ == "__main__":

@@ -15,7 +15,7 @@ host may be shared and noisy: compare medians, not single runs.
 
 Usage (from the repository root)::
 
-    python -m benchmarks.gpis_append --out results/gpis_append.png
+    python -m benchmarks.gpis_append --out results/gpis_append.png [--json results/gpis_append.json]
 """
 
 from __future__ import annotations
@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks.performance_page import write_json
 from experiments.paper.gpis_timing import (
     BOUNDS,
     DEFAULT_MAX_ROWS,
@@ -95,6 +96,7 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     parser.add_argument("--full-repeats", type=int, default=5, help="timed full recomputes per n")
     parser.add_argument("--grid", type=int, default=64, help="grid side (grid x grid cells)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the random rows")
+    parser.add_argument("--json", type=Path, default=None, help="write the figures here too")
     args = parser.parse_args(argv)
     if args.repeats < 1 or args.full_repeats < 1:
         parser.error("--repeats and --full-repeats must be at least 1")
@@ -121,7 +123,7 @@ def main(argv: list[str] | None = None) -> None:
     )
     print(header)
     print("-" * len(header))
-    append_ms, full_ms = [], []
+    append_ms, full_ms, rows = [], [], []
     for n in sizes:
         appends = time_appends(n, args.grid, args.repeats, args.seed)
         g = build_map(n, args.grid, max_rows=DEFAULT_MAX_ROWS, seed=args.seed)
@@ -136,6 +138,11 @@ def main(argv: list[str] | None = None) -> None:
             f"{mismatch:>11.2e}",
             flush=True,
         )
+        rows.append({
+            "n": n, "append_ms": append_ms[-1], "full_ms": full_ms[-1],
+            "ratio": full_ms[-1] / append_ms[-1], "memory_mib": g.memory_bytes / 2**20,
+            "max_abs_mean_difference": mismatch,
+        })  # fmt: skip
     if TARGET_N in sizes:
         i = sizes.index(TARGET_N)
         ratio = full_ms[i] / append_ms[i]
@@ -148,6 +155,9 @@ def main(argv: list[str] | None = None) -> None:
         )
     plot(sizes, append_ms, full_ms, args.out)
     print(f"saved {args.out}")
+    if args.json is not None:
+        figures = {"grid": args.grid, "pinning": pinning, "rows": rows}
+        write_json(args.json, "benchmarks.gpis_append", argv, figures)
 
 
 if __name__ == "__main__":

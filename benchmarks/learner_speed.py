@@ -35,8 +35,10 @@ environment before its fast path of free motion). Run from the repo root::
     python -m benchmarks.learner_speed --variants recipe recipe:bfloat16_updates=true \\
         recipe:bfloat16_updates=true,n_epochs=5
 
-Like ``agents/train.py``, it sets ``OMP_WAIT_POLICY=PASSIVE`` (unless set) before torch
-loads. ``--torch-threads 1 --env-threads 1`` is how the ``full`` budget trains each seed.
+``--json PATH`` writes the summary's figures (for ``docs/PERFORMANCE.md``,
+``benchmarks.performance_page``). Like ``agents/train.py``, it sets ``OMP_WAIT_POLICY=PASSIVE``
+(unless set) before torch loads. ``--torch-threads 1 --env-threads 1`` is how the ``full``
+budget trains each seed.
 """
 
 from __future__ import annotations
@@ -61,6 +63,7 @@ from agents.sb3.encoders import MapExtractor, map_feature_shape
 from agents.sb3.recipes import load_hyperparams, new_model, training_class
 from agents.sb3.training_env import make_training_env
 from benchmarks.arguments import positive_int
+from benchmarks.performance_page import write_json
 
 ABLATIONS = Path("docs/results/ablations_speed")
 #: name -> (the map mode, the recipe file (None: agents/hyperparams/ppo.yml), the
@@ -238,28 +241,52 @@ def describe(model: Any) -> dict[str, Any]:
     }
 
 
-def print_summary(measured: list[Measured], pusher: list[float]) -> None:
+def summary(measured: list[Measured], pusher: list[float]) -> list[dict[str, Any]]:
+    """Per variant, the medians over rounds: trained probes/s, its ratio to the reference
+    variant's in the same rounds, each part in ms per trained probe, the update's µs per
+    sample pass, parameters, the kept map grid and the ratio to Pusher-v5 (None without)."""
     reference = next((m for m in measured if m.label == REFERENCE_VARIANT), measured[0])
+    rows = []
+    for m in measured:
+        ratios = [a / b for a, b in zip(m.rates(), reference.rates(), strict=True)]
+        info = describe(m.model)
+        rows.append({
+            "label": m.label,
+            "reference": reference.label,
+            "probes_per_s": statistics.median(m.rates()),
+            "probes_per_s_rounds": m.rates(),
+            "ratio_to_reference": statistics.median(ratios),
+            "env_ms": m.per_probe_ms("env"),
+            "infer_ms": m.per_probe_ms("infer"),
+            "update_ms": m.per_probe_ms("update"),
+            "update_us_per_sample": 1e3 * m.per_probe_ms("update") / m.recipe["n_epochs"],
+            "params": info["params"],
+            "grid": info["grid"],
+            "ratio_to_pusher": (
+                statistics.median(r / p for r, p in zip(m.rates(), pusher, strict=True))
+                if pusher
+                else None
+            ),
+        })  # fmt: skip
+    return rows
+
+
+def print_summary(rows: list[dict[str, Any]], pusher: list[float]) -> None:
     print(
-        f"\n{'variant':>28} {'probes/s':>8} {'vs ' + reference.label:>10} {'env':>6} "
+        f"\n{'variant':>28} {'probes/s':>8} {'vs ' + rows[0]['reference']:>10} {'env':>6} "
         f"{'infer':>6} {'update':>7} {'us/sample':>9} {'params':>8} {'grid':>8}"
         f"{'  vs Pusher-v5':>14}"
     )
     print(f"{'':>28} {'':>8} {'':>10} {'(ms per trained probe)':>21}")
-    for m in measured:
-        ratios = [a / b for a, b in zip(m.rates(), reference.rates(), strict=True)]
-        info = describe(m.model)
-        per_sample = 1e3 * m.per_probe_ms("update") / m.recipe["n_epochs"]
+    for r in rows:
         vs_pusher = (
-            f"{statistics.median(r / p for r, p in zip(m.rates(), pusher, strict=True)):14.4f}"
-            if pusher
-            else f"{'-':>14}"
+            f"{'-':>14}" if r["ratio_to_pusher"] is None else f"{r['ratio_to_pusher']:14.4f}"
         )
         print(
-            f"{m.label:>28} {statistics.median(m.rates()):8.1f} {statistics.median(ratios):10.2f} "
-            f"{m.per_probe_ms('env'):6.2f} {m.per_probe_ms('infer'):6.2f} "
-            f"{m.per_probe_ms('update'):7.2f} {per_sample:9.0f} {info['params']:8,d} "
-            f"{info['grid']:>8}{vs_pusher}"
+            f"{r['label']:>28} {r['probes_per_s']:8.1f} {r['ratio_to_reference']:10.2f} "
+            f"{r['env_ms']:6.2f} {r['infer_ms']:6.2f} "
+            f"{r['update_ms']:7.2f} {r['update_us_per_sample']:9.0f} {r['params']:8,d} "
+            f"{r['grid']:>8}{vs_pusher}"
         )
     if pusher:
         print(f"{PUSHER_ID}: median {statistics.median(pusher):,.0f} steps/s (random actions)")
@@ -282,6 +309,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--rounds", type=positive_int, default=3, help="alternating rounds")
     parser.add_argument("--torch-threads", type=positive_int, default=1)
     parser.add_argument("--env-threads", type=positive_int, default=1)
+    parser.add_argument("--json", type=Path, default=None, help="write the figures here too")
     args = parser.parse_args(argv)
     import torch
 
@@ -315,9 +343,20 @@ def main(argv: list[str] | None = None) -> None:
         if rate is not None:
             pusher.append(rate)
             print(f"  round {round_index} {PUSHER_ID:>28}: {rate:,.0f} steps/s", flush=True)
-    print_summary(measured, pusher)
+    rows = summary(measured, pusher)
+    print_summary(rows, pusher)
     for m in measured:
         m.model.get_env().close()
+    if args.json is not None:
+        figures = {
+            "timesteps": args.timesteps, "rounds": args.rounds,
+            "torch_threads": args.torch_threads, "env_threads": args.env_threads,
+            "torch": torch.__version__, "amx": cpu_has_amx_bf16(),
+            "reference": rows[0]["reference"],
+            "pusher_steps_per_s": statistics.median(pusher) if pusher else None,
+            "variants": rows,
+        }  # fmt: skip
+        write_json(args.json, "benchmarks.learner_speed", argv, figures)
 
 
 if __name__ == "__main__":

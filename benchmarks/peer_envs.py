@@ -44,7 +44,6 @@ from __future__ import annotations
 import argparse
 import importlib.metadata
 import importlib.util
-import json
 import os
 import platform
 import statistics
@@ -57,6 +56,7 @@ from typing import Any
 import gymnasium as gym
 
 from agents.command_args import parse_setting, settings_label
+from benchmarks.performance_page import write_json
 from tactile_search import ENV_ID  # importing the package registers the environment
 from tactile_search.envs.config import MAP_MODES
 from tactile_search.seed_ranges import VALIDATION, held_out_seeds
@@ -343,11 +343,9 @@ def main(argv: list[str] | None = None) -> None:
     for subject in subjects:
         subject.env.close()
     if args.json is not None:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
         settings = {k: str(v) if isinstance(v, Path) else v for k, v in vars(args).items()}
         document = {"meta": meta, "settings": settings, "envs": results}
-        args.json.write_text(json.dumps(document, indent=2) + "\n")
-        print(f"wrote {args.json}")
+        write_json(args.json, "benchmarks.peer_envs", argv, document)
 
 
 if __name__ == "__main__":

@@ -10,7 +10,7 @@ run. The prior's cost grows as rows² times grid cells, so fewer points make res
 question is where the map starts to suffer.
 
 Run (from the repository root): ``python -m benchmarks.prior_rows [--seeds 40]
-[--points 96 64 48 32]``.
+[--points 96 64 48 32] [--json results/prior_rows.json]``.
 """
 
 from __future__ import annotations
@@ -18,8 +18,10 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
+from pathlib import Path
 
 from agents.scripted import GpisProbePlanner
+from benchmarks.performance_page import write_json
 from tactile_search import CupboardSearchEnv
 from tactile_search.benchmark.statistics import wilson_interval
 from tactile_search.seed_ranges import held_out_seeds
@@ -65,11 +67,13 @@ def measure(points: int, seeds: list[int]) -> dict[str, float | str]:
     }
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=40)
     parser.add_argument("--points", type=int, nargs="+", default=[96, 64, 48, 32])
-    args = parser.parse_args()
+    parser.add_argument("--json", type=Path, default=None, help="write the figures here too")
+    args = parser.parse_args(argv)
+    rows = []
     seeds = held_out_seeds("validation", args.seeds)
     print(f"validation seeds {seeds[0]}..{seeds[-1]}; reset times are medians (ms)")
     print(
@@ -78,12 +82,16 @@ def main() -> None:
     )
     for points in args.points:
         r = measure(points, seeds)
+        rows.append(r)
         print(
             f"{r['points']:>6} {r['rows']:>6.0f} {r['reset_ms']:>7.2f} "
             f"{r['prior_iou']:>6.3f}±{r['prior_iou_sd']:.3f} "
             f"{r['final_iou']:>6.3f}±{r['final_iou_sd']:.3f} "
             f"{r['success']:>6.0f} % {r['success_ci']:>11}"
         )
+    if args.json is not None:
+        figures = {"seeds": len(seeds), "first_seed": seeds[0], "rows": rows}
+        write_json(args.json, "benchmarks.prior_rows", argv, figures)
 
 
 if __name__ == "__main__":

@@ -38,6 +38,7 @@ from pathlib import Path
 
 from agents.grid.budgets import BUDGETS, SCRIPTED
 from agents.sb3.recipes import load_hyperparams
+from benchmarks.performance_page import write_json
 
 #: The repository's root: the children's working directory (``python -c`` finds ``agents``
 #: there).
@@ -306,7 +307,6 @@ def main(argv: list[str] | None = None) -> None:
             f"| {(training + evaluation) / 3600:.2f} |"
         )
     if args.json:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
         figures = {
             "cores": cores,
             "timesteps": args.timesteps,
@@ -317,7 +317,7 @@ def main(argv: list[str] | None = None) -> None:
             "fixed_seconds": fixed,
             "on_paper_seconds": paper,
         }
-        args.json.write_text(json.dumps(figures, indent=2))
+        write_json(args.json, "benchmarks.ray_grid", argv, figures)
 
 
 if __name__ == "__main__":

@@ -20,6 +20,7 @@ repository root::
 
     python -m benchmarks.train_arrangement [--timesteps 4096] [--rounds 2] [--map gpis]
         [--hyperparams docs/results/ablations_speed/space_to_depth.yml]
+        [--json results/train_arrangement.json]
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ import yaml
 
 from agents.run_dir import CONFIG_FILE
 from benchmarks.arguments import positive_int
+from benchmarks.performance_page import write_json
 
 ARRANGEMENTS = ("alone-1", "alone-all", "side-by-side")
 
@@ -100,6 +102,7 @@ def main(argv: list[str] | None = None) -> None:
     usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
     parser.add_argument("--cores", type=positive_int, default=usable or 1)
     parser.add_argument("--arrangements", nargs="+", choices=ARRANGEMENTS, default=ARRANGEMENTS)
+    parser.add_argument("--json", type=Path, default=None, help="write the figures here too")
     args = parser.parse_args(argv)
     print(
         f"PPO {args.map} ({args.hyperparams or 'agents/hyperparams/ppo.yml'}), {args.timesteps} "
@@ -127,6 +130,18 @@ def main(argv: list[str] | None = None) -> None:
     for arrangement, values in machine.items():
         median = statistics.median(values)
         print(f"{arrangement:>12} {median:21.1f} {median / base:12.2f}")
+    if args.json is not None:
+        figures = {
+            "map": args.map, "hyperparams": str(args.hyperparams or "agents/hyperparams/ppo.yml"),
+            "timesteps": args.timesteps, "rounds": args.rounds, "cores": args.cores,
+            "base": args.arrangements[0],
+            "arrangements": {
+                name: {"rounds": values, "median": statistics.median(values),
+                       "ratio": statistics.median(values) / base}
+                for name, values in machine.items()
+            },
+        }  # fmt: skip
+        write_json(args.json, "benchmarks.train_arrangement", argv, figures)
 
 
 if __name__ == "__main__":

@@ -11,7 +11,7 @@ the figure is the face's cost, not the layouts'.
 Run it on two builds (``PYTHONPATH`` at each checkout's ``python/``) to compare faces side
 by side on equal work:
 
-    python -m benchmarks.vector_overhead --num-envs 8 16
+    python -m benchmarks.vector_overhead --num-envs 8 16 [--json results/vector_overhead.json]
 """
 
 from __future__ import annotations
@@ -19,11 +19,13 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
+from pathlib import Path
 
 import numpy as np
 from gymnasium.spaces import MultiDiscrete
 
 from benchmarks.arguments import positive_int
+from benchmarks.performance_page import write_json
 from tactile_search import CupboardSearchVectorEnv
 from tactile_search.envs.config import ACTION_MODES, MAP_MODES
 
@@ -82,7 +84,7 @@ def measure(mode: str, action_mode: str, num_envs: int, steps: int, rounds: int)
     return {key: statistics.median(values) for key, values in times.items()}
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--num-envs", type=positive_int, nargs="+", default=[8, 16])
     parser.add_argument("--modes", nargs="+", choices=MAP_MODES, default=list(MAP_MODES))
@@ -91,7 +93,9 @@ def main() -> None:
     )
     parser.add_argument("--steps", type=positive_int, default=2000, help="batch steps per env")
     parser.add_argument("--rounds", type=positive_int, default=10)
-    args = parser.parse_args()
+    parser.add_argument("--json", type=Path, default=None, help="write the figures here too")
+    args = parser.parse_args(argv)
+    rows = []
     print("us per batch step, one thread: through the vector env's face / the batch alone")
     for mode in args.modes:
         for action_mode in args.action_modes:
@@ -103,6 +107,14 @@ def main() -> None:
                     f"  core {t['core']:9.1f}  face's cost {t['face'] - t['core']:+7.1f} us"
                     f" ({t['face'] / t['core']:.3f}x)"
                 )
+                rows.append({
+                    "map": mode, "action_mode": action_mode, "num_envs": num_envs,
+                    "batch_steps": steps, "face_us": t["face"], "core_us": t["core"],
+                    "cost_us": t["face"] - t["core"], "ratio": t["face"] / t["core"],
+                })  # fmt: skip
+    if args.json is not None:
+        figures = {"steps": args.steps, "rounds": args.rounds, "rows": rows}
+        write_json(args.json, "benchmarks.vector_overhead", argv, figures)
 
 
 if __name__ == "__main__":

@@ -6,11 +6,11 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
 import sys
 from pathlib import Path
 
 import benchmarks.soak
+from benchmarks.performance_page import write_json
 from benchmarks.soak.plan import FULL, QUICK, power_range
 from benchmarks.soak.report import plot
 from benchmarks.soak.run import run_soak
@@ -48,9 +48,7 @@ def main(argv: list[str] | None = None) -> int:
     print(result.text)
     print(plot(result, args.out))
     if args.json:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        args.json.write_text(json.dumps(result.figures, indent=2, default=float) + "\n")
-        print(f"figures: {args.json}")
+        write_json(args.json, "benchmarks.soak", argv, result.figures)
     return 0 if result.passed else 1
 
 
