@@ -492,9 +492,9 @@ SECTIONS = (
 
 
 def criterion_estimates(criterion: Path, benches: Path = Path("env_core/benches")) -> list:
-    """Every criterion benchmark under ``criterion`` (``**/new/estimates.json`` and the
-    ``benchmark.json`` beside it): its id, the bench whose source names its group (None if
-    none does), the median and the mean in ns with the mean's 95 % interval."""
+    """Every criterion benchmark under ``criterion`` (the ``estimates.json`` of its ``new``
+    folder and the ``benchmark.json`` beside it): its id, the bench whose source names its
+    group (None if none does), the median and the mean in ns with the mean's 95 % interval."""
     sources = {
         name: (benches / f"{name}.rs").read_text() if (benches / f"{name}.rs").is_file() else ""
         for name in CRITERION_BENCHES
