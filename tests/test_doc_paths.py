@@ -8,19 +8,23 @@ generated or not ours (``.git``, ``.venv``, ``target``, ``runs``, ``results``, c
 
 A token is a repository path when it holds a ``/`` and either starts with a top-level
 folder (``env_core/``, ``python/``, ``agents/``, ...) or ``src/``, or ends with a file
-extension of ours (``.rs``, ``.py``, ``.md``, ...). URLs, absolute paths and templates
-(``<algo>``, ``{name}``) are not. How a path resolves:
+extension of ours (``.rs``, ``.py``, ``.md``, ...); a bare file name is one when it ends
+with a source extension (``.rs``, ``.py``, ``.pyi``, ``.md``, ``.yml``, ``.toml``: data files
+named bare are mostly written at run time). URLs, absolute paths and templates (``<algo>``,
+``{name}``) are not. How a path resolves:
 
 - one that starts with a top-level folder: from the repository root, or from a folder
   above the citing file (in a file of ``env_core/src/``, ``tests/`` may be
   ``env_core/tests/``);
-- a shortened one (``maps/gpis.rs``, ``envs/time_limit.py``, ``src/gpis/``): it must be the
-  tail of an existing path, whole components (``maps/gpis.rs`` is the tail of
-  ``env_core/src/episode/maps/gpis.rs``; a file moved to another folder is the tail of
-  nothing);
+- a shortened one (``maps/gpis.rs``, ``envs/time_limit.py``, ``src/gpis/``, a bare
+  ``probe.rs``): it must be the tail of an existing path, whole components
+  (``maps/gpis.rs`` is the tail of ``env_core/src/episode/maps/gpis.rs``; a file moved to
+  another folder is the tail of nothing);
 - a ``*`` is a glob and must match something;
 - paths under ``results/``, ``runs/`` and ``target/`` are written at run time (by the
-  benchmarks, training and cargo), so they are allowed by rule.
+  benchmarks, training and cargo), and so are the JSON files of ``docs/performance/`` (the
+  benchmarks' output the performance page is rendered from; ``docs/PERFORMANCE.md`` names
+  the file of a benchmark not run yet): they are allowed by rule.
 """
 
 from __future__ import annotations
@@ -46,8 +50,8 @@ TOP_LEVEL = (
 )
 EXTENSIONS = (".rs", ".py", ".pyi", ".md", ".yml", ".yaml", ".toml", ".json", ".png", ".gif",
               ".csv", ".npz", ".zip")  # fmt: skip
-#: Written at run time, so never in the repository: allowed by rule.
-GENERATED = ("results/", "runs/", "target/")
+#: Written at run time, so not (or not yet) in the repository: allowed by rule.
+GENERATED = ("results/", "runs/", "target/", "docs/performance/")
 #: Folders neither scanned nor indexed: by name anywhere (not ours), and at the top level
 #: (written at run time).
 SKIP_DIRS = {".git", ".venv", "venv", "__pycache__", ".pytest_cache", ".ruff_cache",
@@ -56,6 +60,8 @@ SKIP_TOP = {"target", "runs", "results"}
 #: Generated documentation, not scanned (it may cite what existed when it was written).
 SKIP_SCAN = ("docs/results/", "docs/paper/")
 
+SOURCE_EXTENSIONS = (".rs", ".py", ".pyi", ".md", ".yml", ".yaml", ".toml")
+BARE_NAME = re.compile(r"[A-Za-z0-9_-]+\.[a-z]+")
 URL = re.compile(r"[A-Za-z][A-Za-z0-9+.-]*://\S+")
 TOKEN = re.compile(r"[A-Za-z0-9_.*<>{}$/-]+")
 
@@ -64,7 +70,11 @@ def candidates(text: str) -> Iterator[str]:
     """The tokens of one line of prose that name repository paths (see the module doc)."""
     for match in TOKEN.finditer(URL.sub(" ", text)):
         token = match.group().rstrip(".-")
-        if "/" not in token or any(c in token for c in "<>{}$"):
+        if any(c in token for c in "<>{}$"):
+            continue
+        if "/" not in token:
+            if BARE_NAME.fullmatch(token) and token.endswith(SOURCE_EXTENSIONS):
+                yield token
             continue
         if token.startswith(("/", ".", "~")) or "//" in token:
             continue  # absolute, relative to the working directory, or not a path
@@ -218,6 +228,7 @@ def test_the_extractor_finds_paths_and_tells_existing_from_missing(tmp_path: Pat
         "The prior: maps/gpis/prior.rs (see https://example.org/agents/x.py), not\n"
         "episode/prior.rs; runs write results/mine.json and runs/x/model.zip;\n"
         "`agents/hyperparams/<algo>.yml` is a template, 1/240 s a fraction, wrist/probe words.\n"
+        "Bare names: train.py is one, gone.py is not; demo.npz and agents.train are not checked.\n"
     )
     lines = dict(markdown_prose((tmp_path / "README.md").read_text()))
     assert list(candidates(lines[1])) == ["agents/train.py", "agents/trainer.py"]
@@ -228,9 +239,11 @@ def test_the_extractor_finds_paths_and_tells_existing_from_missing(tmp_path: Pat
         "runs/x/model.zip",
     ]
     assert list(candidates(lines[4])) == []
+    assert list(candidates(lines[5])) == ["train.py", "gone.py"]
     assert missing_paths(tmp_path) == [
         "README.md:1 -> agents/trainer.py",
         "README.md:3 -> episode/prior.rs",
+        "README.md:5 -> gone.py",
     ]
 
 
