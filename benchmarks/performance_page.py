@@ -579,17 +579,30 @@ def stamp_lines(doc: dict[str, Any], fallback_command: str) -> list[str]:
     if not isinstance(recorded, dict):
         return [f"Command: `{fallback_command}` (the file records neither command nor date)."]
     machine = recorded.get("machine", {})
-    cores = machine.get("usable_cpus") or machine.get("cpu_count") or "?"
+    cores, usable = machine.get("cpu_count") or "?", machine.get("usable_cpus")
+    if usable is not None and usable != cores:
+        cores_text = f"{cores} cores ({usable} usable by the process)"
+    else:
+        cores_text = f"{cores} cores"
     where = (
-        f"{machine.get('cpu', '?')}, {cores} usable cores, {machine.get('os', '?')}, Python "
+        f"{machine.get('cpu', '?')}, {cores_text}, {machine.get('os', '?')}, Python "
         f"{machine.get('python', '?')}, load average "
         f"{num(machine.get('load_average'), '.2f')} at the end"
     )
-    return [
+    lines = [
         f"Command: `{recorded.get('command', fallback_command)}`  ",
         f"Recorded {recorded.get('date', '?')} at commit `{recorded.get('commit') or '?'}` "
         f"on {where}.",
     ]
+    load = machine.get("load_average")
+    if isinstance(load, int | float) and isinstance(cores, int) and load > cores:
+        lines += [
+            "",
+            f"**Other work shared the machine** (load average {load:.1f} on {cores} cores): "
+            "rates are low and scaling over threads or processes is not this code's; read the "
+            "ratios measured in the same rounds, and the controls where the benchmark has them.",
+        ]
+    return lines
 
 
 def render_section(section: Section, results: Path) -> list[str]:
