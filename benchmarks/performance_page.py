@@ -342,13 +342,26 @@ def render_soak(doc: dict[str, Any]) -> list[str]:
     live = memory.get("live_heap", {}).get("growth_after_warm_up")
     rss = memory.get("rss_after_trim", {}).get("growth_after_warm_up")
     scale = doc.get("scale", {}).get("name", "?")
-    return [
+    checks = doc.get("checks", {})
+    failed = [name for name, check in checks.items() if not check.get("passed")]
+    informational = doc.get("informational", {})
+    lines = [
         f"The `{scale}` soak: {num(doc.get('steps'), ',d')} steps, "
         f"{num(doc.get('seeds_given'), ',d')} layout seeds, {num(doc.get('seconds'), ',.0f')} "
         f"s. Growth after the warm-up: live heap {percent(live)}, resident memory after the "
-        f"trim {percent(rss)} (limit 2 % each). Every check passed: "
-        f"{'yes' if doc.get('passed') else 'no'}.",
+        f"trim {percent(rss)} (limit 2 % each).",
+        "",
+        f"Checks: {len(checks) - len(failed)} of {len(checks)} passed"
+        + (f" (failed: {', '.join(failed)})" if failed else "")
+        + ".",
     ]
+    if informational:
+        shown = ", ".join(
+            f"{name} {'within' if item.get('within_limit') else 'outside'} its limit"
+            for name, item in informational.items()
+        )
+        lines += [f"Printed only at this scale, not asserted: {shown}."]
+    return lines
 
 
 def median(values: Any) -> float | None:
@@ -549,7 +562,7 @@ def render_criterion(doc: dict[str, Any]) -> list[str]:
 CRITERION_BENCHES = ("gpis_append", "scene", "probe")
 CRITERION_COMMAND = (
     " && ".join(f"cargo bench -p env_core --bench {b}" for b in CRITERION_BENCHES)
-    + " && python -m benchmarks.performance_page --collect-criterion target/criterion "
+    + " && python -m benchmarks.performance_page --collect-criterion {criterion} "
     "--results {results}"
 )
 CRITERION = Section(
@@ -609,7 +622,9 @@ def render_section(section: Section, results: Path) -> list[str]:
     """A section: its title and what it measures, then its figures under the command and
     stamp that produced them, or the line naming the command that writes its file."""
     path = results / section.file
-    command = section.command.format(json=path.as_posix(), results=results.as_posix())
+    command = section.command.format(
+        json=path.as_posix(), results=results.as_posix(), criterion="target/criterion"
+    )
     lines = [f"## {section.title}", "", section.about, ""]
     if not path.is_file():
         return [*lines, f"_Not measured for this page: `{command}` writes `{path.as_posix()}`._"]
@@ -670,7 +685,9 @@ def main(argv: list[str] | None = None) -> None:
         estimates = criterion_estimates(args.collect_criterion)
         if not estimates:
             parser.error(f"no criterion estimates under {args.collect_criterion}/**/new/")
-        command = CRITERION_COMMAND.format(results=args.results.as_posix())
+        command = CRITERION_COMMAND.format(
+            results=args.results.as_posix(), criterion=args.collect_criterion.as_posix()
+        )
         figures = {"source": args.collect_criterion.as_posix(), "benchmarks": estimates}
         write_json(args.results / CRITERION.file, GENERATOR, argv, figures, command=command)
     args.out.parent.mkdir(parents=True, exist_ok=True)
