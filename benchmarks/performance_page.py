@@ -360,7 +360,7 @@ def render_soak(doc: dict[str, Any]) -> list[str]:
             f"{name} {'within' if item.get('within_limit') else 'outside'} its limit"
             for name, item in informational.items()
         )
-        lines += [f"Printed only at this scale, not asserted: {shown}."]
+        lines += ["", f"Printed only at this scale, not asserted: {shown}."]
     return lines
 
 
