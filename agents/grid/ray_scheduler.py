@@ -33,7 +33,8 @@ import ray
 
 from agents.evaluation.episodes_csv import EPISODE_COLUMNS, episode_row
 from agents.evaluation.evaluation import evaluate, evaluation_seeds, prepare_evaluation
-from agents.grid.trials import TrainingTrial, evaluate_shard, run_files, shards, train_trial
+from agents.grid.trials import TrainingTrial, evaluate_shard, shards, train_trial
+from agents.run_dir import evaluated_files
 from agents.scripted import SCRIPTED_AGENTS
 from tactile_search.benchmark.statistics import Summary
 
@@ -131,7 +132,7 @@ def evaluate_on_ray(
     pending: dict[Any, tuple[str, str, str, list[int]]] = {}
     for spec, name, map_mode in zip(agent_specs, names, map_modes, strict=True):
         todo = [seed for seed in seeds if (name, seed) not in done]
-        files = None if spec in SCRIPTED_AGENTS else ray.put(run_files(Path(spec)))
+        files = None if spec in SCRIPTED_AGENTS else ray.put(evaluated_files(Path(spec)))
         for shard in shards(todo, shard_episodes):
             pending[task.remote(spec, files, shard, actions)] = (
                 name,
