@@ -3,7 +3,7 @@ demonstrations it reads, which ``agents.imitation`` writes).
 
 Fine-tuned with PPO alone, a policy cloned from the planner improves for a while and then
 drifts: its entropy collapses and it learns to repeat probes until the time runs out
-(docs/RESULTS.md, issue 24's rows). The anchor keeps it near what it was taught: before
+(docs/RESULTS.md, "Learning from the planner"). The anchor keeps it near what it was taught: before
 every rollout (after the previous update), a few minibatches of the demonstrations the
 policy was cloned from are trained on again, their negative log-likelihood weighted by a
 weight that decays linearly to zero over the first ``decay_timesteps``: the policy starts
