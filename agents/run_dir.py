@@ -4,8 +4,15 @@ A run directory ``<out>/<algo>_<map>_seed<seed>/`` holds ``config.yml`` (the res
 seed, versions, the code's git commit, the machine, checkpoints and resumes), ``model.zip``
 (written last: a run is finished when both exist and the config records ``timesteps_done``),
 ``progress.csv`` and TensorBoard events, and ``checkpoints/rl_model_<timesteps>_steps.zip``.
+A run cloned from a teacher (``agents.imitation``) also holds ``demonstrations.npz`` (what
+its last clone learned from) and ``rounds/round<k>/`` (the student before each DAgger round,
+a run directory each); a PPO run that fine-tunes such a clone keeps it in ``imitation/``
+(a run directory of its own, with the teacher's demonstrations it cloned).
 Every file is replaced atomically (a temporary file renamed over it), so a kill leaves the old
 file or the new one. ``model_digest`` hashes what a ``model.zip`` holds, not its bytes.
+
+Other modules name a run's files through the functions here (``config_path``,
+``model_path``, ``checkpoint_dir``...), never by typing them (``tests/test_run_dir.py``).
 """
 
 from __future__ import annotations
@@ -17,6 +24,7 @@ import json
 import os
 import platform
 import re
+import shutil
 import subprocess
 import zipfile
 from collections.abc import Iterator
@@ -47,6 +55,59 @@ CHECKPOINT_PREFIX = "rl_model"
 
 
 CHECKPOINT_NAME = re.compile(rf"{CHECKPOINT_PREFIX}_(\d+)_steps\.zip")
+#: A checkpoint's file name, as messages show it.
+CHECKPOINT_PATTERN = f"{CHECKPOINT_PREFIX}_<timesteps>_steps.zip"
+#: Where a PPO run whose recipe has an ``imitation`` section keeps the clone it fine-tunes
+#: (``agents.imitation.clone_stage``), a run directory of its own inside the PPO run's.
+CLONE_DIR = "imitation"
+#: Where an imitation run keeps the student before each DAgger round, as runs of their own
+#: (``round0`` is behaviour cloning alone).
+ROUNDS_DIR = "rounds"
+#: What an imitation run's last clone learned from (``agents.sb3.anchor`` anchors PPO
+#: fine-tuning to it).
+DEMONSTRATIONS_FILE = "demonstrations.npz"
+#: The teacher's demonstrations a clone stage keeps in its clone's directory, so that a stage
+#: started again after a kill clones the same demonstrations without recording them again.
+TEACHER_DEMONSTRATIONS_FILE = "teacher_demonstrations.npz"
+#: The files an evaluation of a run reads (``agents.sb3.learned.LearnedAgent``).
+EVALUATED_FILES = (MODEL_FILE, CONFIG_FILE)
+#: The record of a run kept beside published results (the model stays out).
+RECORD_FILES = (CONFIG_FILE, PROGRESS_FILE)
+
+
+def config_path(run_dir: Path) -> Path:
+    """The run's ``config.yml``."""
+    return Path(run_dir) / CONFIG_FILE
+
+
+def model_path(run_dir: Path) -> Path:
+    """The run's ``model.zip`` (there once the run finished)."""
+    return Path(run_dir) / MODEL_FILE
+
+
+def progress_path(run_dir: Path) -> Path:
+    """The run's ``progress.csv`` (SB3's logger writes it)."""
+    return Path(run_dir) / PROGRESS_FILE
+
+
+def checkpoint_dir(run_dir: Path) -> Path:
+    """The directory of the run's checkpoints."""
+    return Path(run_dir) / CHECKPOINT_DIR
+
+
+def clone_dir(run_dir: Path) -> Path:
+    """The directory of the clone a PPO run fine-tunes (``CLONE_DIR``)."""
+    return Path(run_dir) / CLONE_DIR
+
+
+def round_dir(run_dir: Path, index: int) -> Path:
+    """The directory of an imitation run's student before DAgger round ``index + 1``."""
+    return Path(run_dir) / ROUNDS_DIR / f"round{index}"
+
+
+def demonstrations_path(run_dir: Path) -> Path:
+    """An imitation run's ``demonstrations.npz`` (``DEMONSTRATIONS_FILE``)."""
+    return Path(run_dir) / DEMONSTRATIONS_FILE
 
 
 def run_name(algo: str, map_mode: str, seed: int) -> str:
@@ -124,7 +185,7 @@ def write_atomically(path: Path, text: str) -> None:
 
 def write_run_config(run_dir: Path, config: dict[str, Any]) -> None:
     """Writes a run's ``config.yml`` atomically, keys in the order given."""
-    write_atomically(Path(run_dir) / CONFIG_FILE, yaml.safe_dump(config, sort_keys=False))
+    write_atomically(config_path(run_dir), yaml.safe_dump(config, sort_keys=False))
 
 
 def save_model_atomically(model: Any, path: Path) -> None:
@@ -136,11 +197,18 @@ def save_model_atomically(model: Any, path: Path) -> None:
 def checkpoints(run_dir: Path) -> list[tuple[int, Path]]:
     """The checkpoints of a run as ``(timesteps, path)``, oldest first."""
     found = []
-    for path in (Path(run_dir) / CHECKPOINT_DIR).glob(f"{CHECKPOINT_PREFIX}_*_steps.zip"):
+    for path in checkpoint_dir(run_dir).glob(f"{CHECKPOINT_PREFIX}_*_steps.zip"):
         match = CHECKPOINT_NAME.fullmatch(path.name)
         if match:
             found.append((int(match.group(1)), path))
     return sorted(found)
+
+
+def recorded_config(run_dir: Path) -> Any:
+    """What a run's ``config.yml`` holds as YAML, unchecked (``read_run_config`` checks it);
+    None if there is no such file."""
+    path = config_path(run_dir)
+    return yaml.safe_load(path.read_text()) if path.is_file() else None
 
 
 def read_run_config(run_dir: Path, required: tuple[str, ...] = ("algo", "map", "versions")) -> dict:
@@ -150,7 +218,7 @@ def read_run_config(run_dir: Path, required: tuple[str, ...] = ("algo", "map", "
     run_dir = Path(run_dir)
     if not run_dir.is_dir():
         raise ValueError(f"{run_dir} is not a training run: no such directory")
-    path = run_dir / CONFIG_FILE
+    path = config_path(run_dir)
     if not path.is_file():
         raise ValueError(f"{run_dir} is not a training run: {path.name} is missing ({path})")
     try:
@@ -200,7 +268,7 @@ def run_label(config: dict) -> str:
 def is_finished(run_dir: Path, config: dict) -> bool:
     """Whether a run finished: its ``model.zip`` exists and its config records the timesteps
     done (the config is written first, then the model, each atomically)."""
-    return (Path(run_dir) / MODEL_FILE).is_file() and "timesteps_done" in config
+    return model_path(run_dir).is_file() and "timesteps_done" in config
 
 
 def holds_unfinished_run(run_dir: Path) -> bool:
@@ -208,15 +276,25 @@ def holds_unfinished_run(run_dir: Path) -> bool:
     start afresh over)."""
     if not checkpoints(run_dir):
         return False
-    config_path = Path(run_dir) / CONFIG_FILE
-    config = yaml.safe_load(config_path.read_text()) if config_path.is_file() else None
+    config = recorded_config(run_dir)
     return not (isinstance(config, dict) and is_finished(run_dir, config))
 
 
-def kept_progress(path: Path, timesteps: int) -> tuple[list[str], list[str]] | None:
-    """The header and the complete rows of a ``progress.csv`` logged at or before
+def progress_rows(run_dir: Path) -> list[dict[str, str]]:
+    """The rows of a run's ``progress.csv`` by column; none for a run without one (a run
+    cloned from a teacher trains no RL)."""
+    path = progress_path(run_dir)
+    if not path.is_file():
+        return []
+    with path.open() as f:
+        return list(csv.DictReader(f))
+
+
+def kept_progress(run_dir: Path, timesteps: int) -> tuple[list[str], list[str]] | None:
+    """The header and the complete rows of a run's ``progress.csv`` logged at or before
     ``timesteps`` (the later rows belong to work a resumed run redoes; a row cut short by a
     kill is dropped). None if there is no usable file."""
+    path = progress_path(run_dir)
     if not path.is_file():
         return None
     lines = path.read_text().splitlines(keepends=True)
@@ -244,12 +322,52 @@ def kept_progress(path: Path, timesteps: int) -> tuple[list[str], list[str]] | N
 
 def model_file(path: Path) -> Path:
     """``path`` if it is a model file, else ``path/model.zip``; ``ValueError`` if neither is."""
-    candidate = path / MODEL_FILE if path.is_dir() else path
+    candidate = model_path(path) if path.is_dir() else path
     if not candidate.is_file():
         raise ValueError(
-            f"init_from must be a run directory with model.zip or a model file, got {path}"
+            f"init_from must be a run directory with {MODEL_FILE} or a model file, got {path}"
         )
     return candidate
+
+
+def config_beside(model: Path) -> Any:
+    """What the ``config.yml`` beside the model file ``model`` holds (``recorded_config`` of
+    its directory), None without one: the recipe that trained a warm start's source."""
+    return recorded_config(Path(model).parent)
+
+
+def demonstrations_beside(model: Path) -> Path:
+    """The ``demonstrations.npz`` beside the model file ``model`` (an imitation run's)."""
+    return demonstrations_path(Path(model).parent)
+
+
+def evaluated_files(run_dir: Path) -> dict[str, bytes]:
+    """The files of ``run_dir`` an evaluation reads (``EVALUATED_FILES``), to send to a
+    machine that may not see ``run_dir``; ``ValueError`` if the run has not finished."""
+    run_dir = Path(run_dir)
+    missing = [name for name in EVALUATED_FILES if not (run_dir / name).is_file()]
+    if missing:
+        raise ValueError(f"{run_dir} is not a finished training run: it lacks {missing}")
+    return {name: (run_dir / name).read_bytes() for name in EVALUATED_FILES}
+
+
+def write_evaluated_files(run_dir: Path, files: dict[str, bytes]) -> None:
+    """Writes ``files`` (from ``evaluated_files``) into ``run_dir``, a run an evaluation
+    reads; ``ValueError`` for a name that is not one of ``EVALUATED_FILES``."""
+    unknown = sorted(set(files) - set(EVALUATED_FILES))
+    if unknown:
+        raise ValueError(f"a run's evaluated files are {EVALUATED_FILES}, got {unknown}")
+    for name, content in files.items():
+        (Path(run_dir) / name).write_bytes(content)
+
+
+def copy_record(run_dir: Path, into: Path) -> None:
+    """Copies the record of a run (``RECORD_FILES``: its config and training log) into
+    ``into``, which is created."""
+    into = Path(into)
+    into.mkdir(parents=True, exist_ok=True)
+    for name in RECORD_FILES:
+        shutil.copyfile(Path(run_dir) / name, into / name)
 
 
 def model_digest(path: Path) -> bytes:

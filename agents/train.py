@@ -18,11 +18,14 @@ from pathlib import Path
 
 from agents.command_args import parse_setting
 from agents.imitation.clone_stage import train_with_clone_stage
+from agents.run_dir import MODEL_FILE
 from agents.sb3.recipes import ALGORITHMS
 from agents.sb3.training import (
     DEFAULT_CHECKPOINT_EVERY,
     DEFAULT_KEEP_CHECKPOINTS,
+    DEFAULT_TORCH_THREADS,
     INTERRUPTED_EXIT_STATUS,
+    TrainSettings,
 )
 from tactile_search.envs.config import MAP_MODES
 
@@ -35,7 +38,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--timesteps", type=int, help="override the recipe's n_timesteps")
     parser.add_argument("--n-envs", type=int, help="override the recipe's n_envs")
     parser.add_argument("--max-minutes", type=float, help="stop after this much wall-clock")
-    parser.add_argument("--torch-threads", type=int, default=2)
+    parser.add_argument("--torch-threads", type=int, default=DEFAULT_TORCH_THREADS)
     parser.add_argument(
         "--env-threads", type=int, help="the environment batch's threads (default: every core)"
     )
@@ -63,7 +66,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument(
         "--init-from",
         type=Path,
-        help="warm start: a run directory (or model.zip) whose policy weights this run starts from",
+        help=f"warm start: a run directory (or {MODEL_FILE}) whose policy weights this run "
+        "starts from",
     )
     parser.add_argument(
         "--imitation",
@@ -79,27 +83,27 @@ def main(argv: list[str] | None = None) -> None:
         help="PPO from fresh weights: skip the recipe's imitation section (the clone stage)",
     )
     args = parser.parse_args(argv)
+    settings = TrainSettings(
+        args.algo,
+        args.map_mode,
+        out=args.out,
+        seed=args.seed,
+        timesteps=args.timesteps,
+        n_envs=args.n_envs,
+        torch_threads=args.torch_threads,
+        env_threads=args.env_threads,
+        progress_bar=not args.no_progress,
+        hyperparams=args.hyperparams,
+        max_minutes=args.max_minutes,
+        checkpoint_every=args.checkpoint_every,
+        keep_checkpoints=args.keep_checkpoints,
+        resume=args.resume,
+        init_from=args.init_from,
+        from_scratch=args.from_scratch,
+        label=args.label,
+    )
     try:
-        run_dir = train_with_clone_stage(
-            args.algo,
-            args.map_mode,
-            out=args.out,
-            seed=args.seed,
-            timesteps=args.timesteps,
-            n_envs=args.n_envs,
-            torch_threads=args.torch_threads,
-            env_threads=args.env_threads,
-            progress_bar=not args.no_progress,
-            hyperparams=args.hyperparams,
-            max_minutes=args.max_minutes,
-            checkpoint_every=args.checkpoint_every,
-            keep_checkpoints=args.keep_checkpoints,
-            resume=args.resume,
-            init_from=args.init_from,
-            imitation=dict(args.imitation) if args.imitation else None,
-            from_scratch=args.from_scratch,
-            label=args.label,
-        )
+        run_dir = train_with_clone_stage(settings, dict(args.imitation) if args.imitation else None)
     except KeyboardInterrupt:
         sys.exit(INTERRUPTED_EXIT_STATUS)
     print(f"trained {run_dir}")

@@ -144,11 +144,14 @@ def training_rates(runs: Path) -> dict[tuple[str, str], float]:
 def episode_seconds(runs: Path, episodes: int) -> dict[str, float]:
     """Seconds per evaluation episode of each learned run under ``runs`` and each scripted
     agent, on validation layouts."""
-    from agents.grid.trials import evaluate_shard, run_files
+    from agents.grid.trials import evaluate_shard
+    from agents.run_dir import evaluated_files
     from tactile_search.seed_ranges import held_out_seeds
 
     seeds = held_out_seeds("validation", episodes)
-    specs = {run_dir.name: (str(run_dir), run_files(run_dir)) for run_dir in sorted(runs.iterdir())}
+    specs = {
+        run_dir.name: (str(run_dir), evaluated_files(run_dir)) for run_dir in sorted(runs.iterdir())
+    }
     specs.update({name: (name, None) for name in SCRIPTED})
     seconds = {}
     for name, (spec, files) in specs.items():

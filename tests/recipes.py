@@ -10,24 +10,29 @@ import yaml
 
 from agents.imitation.clone_stage import train_with_clone_stage
 from agents.sb3.recipes import HYPERPARAMS_DIR
+from agents.sb3.training import TrainSettings
 from tactile_search import ENV_ID
 
 
 def train_with_recipe(
-    tmp_path: Path, map_mode: str, train_kwargs: dict[str, Any] | None = None, **changes: Any
+    tmp_path: Path,
+    map_mode: str,
+    train_kwargs: dict[str, Any] | None = None,
+    imitation_overrides: dict[str, Any] | None = None,
+    **changes: Any,
 ) -> Path:
     """Trains PPO for 64 steps on 2 envs with ``agents/hyperparams/ppo.yml``'s recipe for
-    ``map_mode``, its keys replaced by ``changes`` (``train_kwargs`` go to ``train``);
-    returns the run directory. The recipe's ``imitation`` section (minutes of cloning the
-    planner first) is left out unless ``changes`` give one (then the run clones first, as
-    ``agents.train`` does)."""
+    ``map_mode``, its keys replaced by ``changes`` (``train_kwargs`` go to ``TrainSettings``,
+    ``imitation_overrides`` to the clone stage); returns the run directory. The recipe's
+    ``imitation`` section (minutes of cloning the planner first) is left out unless
+    ``changes`` give one (then the run clones first, as ``agents.train`` does)."""
     recipe = yaml.safe_load((HYPERPARAMS_DIR / "ppo.yml").read_text())[ENV_ID][map_mode]
     recipe.pop("imitation", None)
     recipe.update(changes)
     tmp_path.mkdir(parents=True, exist_ok=True)
     path = tmp_path / "ppo.yml"
     path.write_text(yaml.safe_dump({ENV_ID: {map_mode: recipe}}))
-    return train_with_clone_stage(
+    settings = TrainSettings(
         "ppo",
         map_mode,
         out=tmp_path / "runs",
@@ -38,3 +43,4 @@ def train_with_recipe(
         progress_bar=False,
         **(train_kwargs or {}),
     )
+    return train_with_clone_stage(settings, imitation_overrides)

@@ -4,6 +4,7 @@ episodes), and their building blocks check their input."""
 from __future__ import annotations
 
 import csv
+import dataclasses
 import shutil
 import subprocess
 import sys
@@ -17,7 +18,7 @@ pytest.importorskip("sb3_contrib")
 
 from agents.run_dir import PUBLISHED_RUNS, code_version
 from agents.sb3.recipes import load_hyperparams
-from agents.sb3.training import train
+from agents.sb3.training import TrainSettings, train
 from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS
 from tactile_search.benchmark.statistics import summarize, wilson_interval
 from tactile_search.seed_ranges import held_out_seeds
@@ -171,15 +172,43 @@ def test_the_summary_reports_quartiles_of_successful_episodes_only():
 
 def test_bad_training_arguments_raise_value_errors(tmp_path: Path):
     with pytest.raises(ValueError, match="map must be one of"):
-        train("ppo", "lidar", out=tmp_path)
+        train(TrainSettings("ppo", "lidar", out=tmp_path))
     with pytest.raises(ValueError, match="algo must be one of"):
         load_hyperparams("dqn", "gpis")
     with pytest.raises(ValueError, match="no 'tactile_search/CupboardSearch-v0' recipe for map"):
         load_hyperparams("recurrent_ppo", "gpis")
-    with pytest.raises(ValueError, match="timesteps must be >= 1"):
-        train("ppo", "gpis", out=tmp_path, timesteps=0)
+    with pytest.raises(ValueError, match="timesteps must be at least 1, got 0"):
+        train(TrainSettings("ppo", "gpis", out=tmp_path, timesteps=0))
     with pytest.raises(ValueError, match="successes must be"):
         wilson_interval(3, 2)
+
+
+def test_train_settings_name_what_they_take_and_what_came(tmp_path: Path):
+    with pytest.raises(TypeError, match="seed must be an integer, got str: '3'"):
+        TrainSettings("ppo", "none", seed="3")
+    with pytest.raises(ValueError, match="seed must be at least 0, got -1"):
+        TrainSettings("ppo", "none", seed=-1)
+    with pytest.raises(TypeError, match="out must be a path, got int: 3"):
+        TrainSettings("ppo", "none", out=3)
+    with pytest.raises(ValueError, match="max_minutes must be > 0, got 0"):
+        TrainSettings("ppo", "none", max_minutes=0)
+    with pytest.raises(TypeError, match="max_minutes must be a real number, got str"):
+        TrainSettings("ppo", "none", max_minutes="5")
+    with pytest.raises(TypeError, match="progress_bar must be a bool, got int: 1"):
+        TrainSettings("ppo", "none", progress_bar=1)
+    with pytest.raises(TypeError, match="label must be a str, got int: 7"):
+        TrainSettings("ppo", "none", label=7)
+    with pytest.raises(TypeError, match="imitation must be a dict, got list"):
+        TrainSettings("ppo", "none", imitation=[1])
+    with pytest.raises(ValueError, match="n_envs must be at least 1, got 0"):
+        TrainSettings("ppo", "none", n_envs=0)
+    with pytest.raises(TypeError, match="train takes a TrainSettings, got str"):
+        train("ppo")
+    settings = TrainSettings("ppo", "none", out=str(tmp_path), seed=4)
+    assert settings.run_dir == tmp_path / "ppo_none_seed4"
+    assert settings.imitation is None and settings.out == tmp_path
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        settings.seed = 5  # type: ignore[misc]
 
 
 def test_regenerated_results_keep_the_hand_written_findings(tmp_path: Path):
@@ -196,14 +225,16 @@ def test_regenerated_results_keep_the_hand_written_findings(tmp_path: Path):
 
 def test_a_wall_clock_limit_stops_training_early_and_is_recorded(tmp_path: Path):
     run_dir = train(
-        "ppo",
-        "none",
-        out=tmp_path,
-        timesteps=10**6,
-        n_envs=2,
-        max_minutes=0.001,
-        progress_bar=False,
-        from_scratch=True,
+        TrainSettings(
+            "ppo",
+            "none",
+            out=tmp_path,
+            timesteps=10**6,
+            n_envs=2,
+            max_minutes=0.001,
+            progress_bar=False,
+            from_scratch=True,
+        )
     )
     config = yaml.safe_load((run_dir / "config.yml").read_text())
     assert (run_dir / "model.zip").is_file()

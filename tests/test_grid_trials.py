@@ -55,9 +55,9 @@ def trainings(monkeypatch) -> list[dict]:
     """The calls ``train_trial`` makes to train, recorded instead of run."""
     calls: list[dict] = []
 
-    def record(algo, map_mode, *, out, seed, **kwargs):
-        calls.append({"algo": algo, "map_mode": map_mode, "seed": seed, **kwargs})
-        return Path(out) / f"{algo}_{map_mode}_seed{seed}"
+    def record(settings, imitation_overrides=None):
+        calls.append({**vars(settings), "imitation_overrides": imitation_overrides})
+        return settings.run_dir
 
     monkeypatch.setattr(trials_module, "train_with_clone_stage", record)
     return calls

@@ -382,9 +382,7 @@ def test_a_recipe_with_an_imitation_section_fine_tunes_the_clone_it_keeps(
 
     section = {**SMALL_IMITATION, "demo_episodes": 40}
     small = {"demo_episodes": 12}
-    run_dir = train_with_recipe(
-        tmp_path, "none", train_kwargs={"imitation": small}, imitation=section
-    )
+    run_dir = train_with_recipe(tmp_path, "none", imitation_overrides=small, imitation=section)
     clone_dir = run_dir / "imitation"
     config = yaml.safe_load((run_dir / "config.yml").read_text())
     assert config["hyperparams"]["imitation"] == {**section, **small}
@@ -396,9 +394,7 @@ def test_a_recipe_with_an_imitation_section_fine_tunes_the_clone_it_keeps(
     digest = model_digest(clone_dir / "model.zip")
     capsys.readouterr()
 
-    again = train_with_recipe(
-        tmp_path, "none", train_kwargs={"imitation": small}, imitation=section
-    )
+    again = train_with_recipe(tmp_path, "none", imitation_overrides=small, imitation=section)
     assert "reusing the clone" in capsys.readouterr().out
     assert model_digest(again / "imitation" / "model.zip") == digest
 
@@ -421,7 +417,7 @@ def test_a_warm_start_skips_the_imitation_section_and_bad_sections_are_refused(
     import yaml
 
     from agents.imitation.clone_stage import with_overrides
-    from agents.sb3.training import train
+    from agents.sb3.training import TrainSettings, train
     from tests.recipes import train_with_recipe
 
     plain = train_with_recipe(tmp_path / "plain", "none")
@@ -440,28 +436,32 @@ def test_a_warm_start_skips_the_imitation_section_and_bad_sections_are_refused(
         train_with_recipe(tmp_path / "bad", "none", imitation={"demo_episodes": 1})
     with pytest.raises(ValueError, match="no imitation section"):
         train(
-            "ppo",
-            "none",
-            out=tmp_path,
-            hyperparams=tmp_path / "plain" / "ppo.yml",
-            imitation={"mirror": True},
+            TrainSettings(
+                "ppo",
+                "none",
+                out=tmp_path,
+                hyperparams=tmp_path / "plain" / "ppo.yml",
+                imitation={"mirror": True},
+            )
         )
     # PPO alone on a recipe with a clone stage: only from a model, or from scratch by choice.
     with pytest.raises(ValueError, match="fine-tunes a clone of the planner"):
-        train("ppo", "none", out=tmp_path / "alone")
+        train(TrainSettings("ppo", "none", out=tmp_path / "alone"))
     scratch = train(
-        "ppo",
-        "none",
-        out=tmp_path / "alone",
-        timesteps=64,
-        n_envs=2,
-        from_scratch=True,
-        progress_bar=False,
-        torch_threads=1,
+        TrainSettings(
+            "ppo",
+            "none",
+            out=tmp_path / "alone",
+            timesteps=64,
+            n_envs=2,
+            from_scratch=True,
+            progress_bar=False,
+            torch_threads=1,
+        )
     )
     assert "imitation" not in yaml.safe_load((scratch / "config.yml").read_text())["hyperparams"]
     with pytest.raises(TypeError, match="from_scratch"):
-        train("ppo", "none", out=tmp_path / "alone", from_scratch="yes")
+        train(TrainSettings("ppo", "none", out=tmp_path / "alone", from_scratch="yes"))
     assert with_overrides({"cloning": {"epochs": 3}}, {"cloning": {"batch_size": 8}}) == {
         "cloning": {"epochs": 3, "batch_size": 8}
     }

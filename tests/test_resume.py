@@ -35,7 +35,7 @@ from agents.evaluation.gifs import gif_drawn_by, gif_provenance
 from agents.run_dir import checkpoints
 from agents.sb3.learned import LearnedAgent
 from agents.sb3.recipes import load_hyperparams
-from agents.sb3.training import train
+from agents.sb3.training import TrainSettings, train
 from agents.train import main
 from tactile_search.seed_ranges import VALIDATION
 
@@ -198,14 +198,14 @@ def test_resuming_a_finished_run_does_nothing(interrupted_run, capsys):
     run_dir = interrupted_run["run_dir"]
     before = {p.name: p.stat().st_mtime_ns for p in run_dir.iterdir()}
     out = run_dir.parent
-    assert train("ppo", "none", out=out, seed=SEED, resume=True) == run_dir
+    assert train(TrainSettings("ppo", "none", out=out, seed=SEED, resume=True)) == run_dir
     assert "already finished" in capsys.readouterr().out
     assert {p.name: p.stat().st_mtime_ns for p in run_dir.iterdir()} == before
 
 
 def test_resuming_needs_a_checkpoint_and_a_fresh_start_keeps_one(interrupted_run, tmp_path):
     with pytest.raises(ValueError, match="not a training run: no such directory"):
-        train("ppo", "none", out=tmp_path, seed=SEED, resume=True)
+        train(TrainSettings("ppo", "none", out=tmp_path, seed=SEED, resume=True))
     run_dir = tmp_path / interrupted_run["run_dir"].name
     run_dir.mkdir()
     shutil.copy(interrupted_run["run_dir"] / "config.yml", run_dir)
@@ -213,14 +213,16 @@ def test_resuming_needs_a_checkpoint_and_a_fresh_start_keeps_one(interrupted_run
     del config["timesteps_done"]
     (run_dir / "config.yml").write_text(yaml.safe_dump(config))
     with pytest.raises(ValueError, match="no checkpoint to resume from"):
-        train("ppo", "none", out=tmp_path, seed=SEED, resume=True)
+        train(TrainSettings("ppo", "none", out=tmp_path, seed=SEED, resume=True))
     with pytest.raises(ValueError, match="a resumed run keeps the recipe"):
-        train("ppo", "none", out=tmp_path, seed=SEED, timesteps=TOTAL + 1, resume=True)
+        train(
+            TrainSettings("ppo", "none", out=tmp_path, seed=SEED, timesteps=TOTAL + 1, resume=True)
+        )
     shutil.copytree(interrupted_run["run_dir"] / "checkpoints", run_dir / "checkpoints")
     with pytest.raises(ValueError, match="unfinished run with a checkpoint"):
-        train("ppo", "none", out=tmp_path, seed=SEED, from_scratch=True)
+        train(TrainSettings("ppo", "none", out=tmp_path, seed=SEED, from_scratch=True))
     with pytest.raises(ValueError, match="checkpoint_every must be at least 1"):
-        train("ppo", "none", out=tmp_path, seed=SEED, checkpoint_every=0)
+        train(TrainSettings("ppo", "none", out=tmp_path, seed=SEED, checkpoint_every=0))
 
 
 # Evaluation
@@ -307,14 +309,16 @@ def test_an_example_gif_left_by_other_code_is_drawn_again(tmp_path):
 def small_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("small")
     return train(
-        "ppo",
-        "none",
-        out=out,
-        timesteps=256,
-        n_envs=2,
-        torch_threads=1,
-        progress_bar=False,
-        from_scratch=True,
+        TrainSettings(
+            "ppo",
+            "none",
+            out=out,
+            timesteps=256,
+            n_envs=2,
+            torch_threads=1,
+            progress_bar=False,
+            from_scratch=True,
+        )
     )
 
 

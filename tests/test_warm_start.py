@@ -1,4 +1,4 @@
-"""Warm starts (``train(..., init_from=...)``, ``--init-from``): the policy starts from a
+"""Warm starts (``TrainSettings(init_from=...)``, ``--init-from``): the policy starts from a
 model's weights, the run records where they came from, and a model of another network,
 observation or action space is refused naming what differs."""
 
@@ -10,7 +10,7 @@ import pytest
 import torch
 import yaml
 
-from agents.sb3.training import train, warm_start
+from agents.sb3.training import TrainSettings, train, warm_start
 from tactile_search.envs.sb3_vec_env import CupboardSearchSb3VecEnv
 from tests.recipes import train_with_recipe
 
@@ -48,6 +48,6 @@ def test_a_model_of_another_observation_or_action_space_is_refused(tmp_path: Pat
 
 def test_bad_warm_starts_raise_value_error(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match="init_from must be a run directory"):
-        train("ppo", "none", out=tmp_path, init_from=tmp_path / "missing")
+        train(TrainSettings("ppo", "none", out=tmp_path, init_from=tmp_path / "missing"))
     with pytest.raises(ValueError, match="resumed run keeps its own weights"):
-        train("ppo", "none", out=tmp_path, init_from=tmp_path, resume=True)
+        train(TrainSettings("ppo", "none", out=tmp_path, init_from=tmp_path, resume=True))

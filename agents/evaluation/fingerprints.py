@@ -12,7 +12,7 @@ from typing import Any
 import tactile_search  # also registers the environment
 from agents.evaluation.agent_specs import _deterministic
 from agents.evaluation.ensemble import ensemble_members
-from agents.run_dir import model_digest, read_run_config
+from agents.run_dir import model_digest, model_path, read_run_config
 from agents.sb3.learned import evaluation_env_kwargs
 from agents.scripted import SCRIPTED_AGENTS
 
@@ -83,7 +83,7 @@ def code_fingerprints(
 def _add_run(sha: Any, run_dir: Path) -> dict[str, Any]:
     """Adds a learned run's model contents and evaluation env settings to ``sha``; returns
     the run's config."""
-    sha.update(model_digest(run_dir / "model.zip"))
+    sha.update(model_digest(model_path(run_dir)))
     config = read_run_config(run_dir)
     env_kwargs = evaluation_env_kwargs(config)
     sha.update(json.dumps(env_kwargs, sort_keys=True, default=str).encode())

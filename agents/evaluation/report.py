@@ -3,13 +3,13 @@ success and the learning curves read from each run's ``progress.csv``."""
 
 from __future__ import annotations
 
-import csv
 import math
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
+from agents.run_dir import progress_rows
 from tactile_search.benchmark.statistics import Summary
 
 
@@ -80,13 +80,8 @@ def plot_steps(path: Path, agents: Sequence[str], episodes: Sequence[Sequence[di
 def read_progress(run_dir: Path) -> dict[str, np.ndarray]:
     """``timesteps`` and ``success_rate`` columns of a run's ``progress.csv``; both empty for
     a run that has none (one cloned from the planner, ``agents.imitate``, trains no RL)."""
-    path = Path(run_dir) / "progress.csv"
-    if not path.is_file():
-        return {"timesteps": np.array([]), "success_rate": np.array([])}
-    with path.open() as f:
-        rows = list(csv.DictReader(f))
     timesteps, success = [], []
-    for row in rows:
+    for row in progress_rows(run_dir):
         if row.get("rollout/success_rate") not in (None, ""):
             timesteps.append(float(row["time/total_timesteps"]))
             success.append(float(row["rollout/success_rate"]))

@@ -70,8 +70,8 @@ BUDGETS = {
     "full": Budget(
         agents=(("ppo", "gpis"), ("ppo", "occupancy"), ("ppo", "none"), ("recurrent_ppo", "none")),
         timesteps=None,
-        # 500 test layouts per training seed: enough for the GPIS - occupancy difference to
-        # within a few points (issue 24).
+        # 500 test layouts per training seed: enough to tell the GPIS and the occupancy
+        # agents apart to within a few points.
         episodes=500,
         runs=PUBLISHED_MODELS,
         results=Path("docs/results"),

@@ -22,14 +22,13 @@ trials one after another in this process; both give the same models and episode 
 Interrupted at any point (Ctrl-C, a kill), the same command finishes the work without
 redoing what is done: a run whose ``model.zip`` exists is reused (delete the run directory
 to retrain), a partly trained run resumes from its newest checkpoint
-(``agents.sb3.training.train(..., resume=True)``), and the evaluation reuses the per-episode rows
+(``agents.sb3.training.TrainSettings(resume=True)``), and the evaluation reuses the per-episode rows
 already in ``episodes.csv`` (``agents.evaluation.evaluation.evaluate``).
 """
 
 from __future__ import annotations
 
 import importlib.util
-import shutil
 import time
 from collections.abc import Sequence
 from pathlib import Path
@@ -41,7 +40,7 @@ from agents.evaluation.report import markdown_table
 from agents.grid.budgets import BUDGETS, REFERENCE_AGENT, SCRIPTED, Budget
 from agents.grid.results_doc import results_markdown, write_results
 from agents.grid.trials import TrainingTrial, train_trial
-from agents.run_dir import code_version, run_name
+from agents.run_dir import code_version, copy_record, model_path, run_name
 from agents.sb3.recipes import load_hyperparams
 
 SCHEDULERS = ("ray", "local")
@@ -79,7 +78,7 @@ def warm_start_source(budget: Budget, algo: str, map_mode: str, seed: int) -> st
     that run is published (else the trial trains from scratch)."""
     if budget.warm_start_from is None:
         return None
-    published = budget.warm_start_from / run_name(algo, map_mode, seed) / "model.zip"
+    published = model_path(budget.warm_start_from / run_name(algo, map_mode, seed))
     return str(published.resolve()) if published.is_file() else None
 
 
@@ -140,10 +139,7 @@ def run_budget(
             actions="sample",
         )
     for run_dir in run_dirs:  # the record of each run beside the results (models stay out)
-        record = budget.results / "training" / run_dir.name
-        record.mkdir(parents=True, exist_ok=True)
-        for name in ("config.yml", "progress.csv"):
-            shutil.copyfile(run_dir / name, record / name)
+        copy_record(run_dir, budget.results / "training" / run_dir.name)
     return run_dirs, markdown_table(summaries)
 
 

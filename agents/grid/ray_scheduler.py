@@ -2,8 +2,7 @@
 per agent and slice of the layouts), on this machine or on a cluster.
 
 Plain tasks, not Tune trials: a grid of fixed recipes needs no search, and a Tune trial adds
-its own start-up and bookkeeping and runs the training in a thread beside Tune's work, which
-measured slower here (``benchmarks/ray_grid.py`` as of the commit that ran the grid on Tune).
+its own start-up and bookkeeping and runs the training in a thread beside Tune's work.
 
 Where it runs: connect first (``agents.grid.ray_session.connect``): with no address (neither
 ``address`` nor ``RAY_ADDRESS``) on this machine with its cores, else on that cluster. Every
@@ -33,7 +32,8 @@ import ray
 
 from agents.evaluation.episodes_csv import EPISODE_COLUMNS, episode_row
 from agents.evaluation.evaluation import evaluate, evaluation_seeds, prepare_evaluation
-from agents.grid.trials import TrainingTrial, evaluate_shard, run_files, shards, train_trial
+from agents.grid.trials import TrainingTrial, evaluate_shard, shards, train_trial
+from agents.run_dir import evaluated_files
 from agents.scripted import SCRIPTED_AGENTS
 from tactile_search.benchmark.statistics import Summary
 
@@ -41,8 +41,8 @@ from tactile_search.benchmark.statistics import Summary
 DEFAULT_MAX_FAILURES = 2
 
 
-# Episodes per evaluation task: small enough to spread 200 layouts over many cores, large
-# enough that loading the model (~0.1 s) is a small part of a task.
+# Episodes per evaluation task: small enough to spread an evaluation's layouts over many
+# cores, large enough that loading the model is a small part of a task.
 DEFAULT_SHARD_EPISODES = 25
 
 
@@ -131,7 +131,7 @@ def evaluate_on_ray(
     pending: dict[Any, tuple[str, str, str, list[int]]] = {}
     for spec, name, map_mode in zip(agent_specs, names, map_modes, strict=True):
         todo = [seed for seed in seeds if (name, seed) not in done]
-        files = None if spec in SCRIPTED_AGENTS else ray.put(run_files(Path(spec)))
+        files = None if spec in SCRIPTED_AGENTS else ray.put(evaluated_files(Path(spec)))
         for shard in shards(todo, shard_episodes):
             pending[task.remote(spec, files, shard, actions)] = (
                 name,

@@ -7,11 +7,8 @@ from __future__ import annotations
 from collections.abc import Iterable
 from pathlib import Path
 
-import yaml
-
 from agents.grid.budgets import Budget
-from agents.imitation.clone_stage import CLONE_DIR
-from agents.run_dir import CONFIG_FILE
+from agents.run_dir import clone_dir, read_run_config, recorded_config
 from tactile_search.seed_ranges import held_out_seeds
 
 
@@ -50,10 +47,10 @@ def wall_clock_text(run_dir: Path, config: dict) -> str:
     """A run's training wall-clock in minutes: its clone stage's (``<run>/imitation/``, when
     it has one) plus its PPO's, and their sum."""
     ppo = config["wall_clock_seconds"] / 60
-    clone_config = run_dir / CLONE_DIR / CONFIG_FILE
-    if not clone_config.is_file():
+    clone_config = recorded_config(clone_dir(run_dir))
+    if clone_config is None:
         return f"{ppo:.1f}"
-    clone = yaml.safe_load(clone_config.read_text())["wall_clock_seconds"] / 60
+    clone = clone_config["wall_clock_seconds"] / 60
     return f"{clone:.1f} + {ppo:.1f} = {clone + ppo:.1f}"
 
 
@@ -68,7 +65,7 @@ def results_markdown(
     """``RESULTS.md``: the commands, budgets, seeds and the table; the machines, code
     versions and seed ranges are read from the runs' ``config.yml``. ``sampled``: the
     learned agents' pooled comparison when sampling their probes, if evaluated so."""
-    configs = [yaml.safe_load((run_dir / "config.yml").read_text()) for run_dir in run_dirs]
+    configs = [read_run_config(run_dir, required=()) for run_dir in run_dirs]
     lines = [
         f"Produced by `make results` (`python -m agents.pipeline --budget {budget_name}`), "
         f"training on {'; '.join(distinct(map(machine_text, configs)))}, "

@@ -22,11 +22,16 @@ from pathlib import Path
 from typing import Any
 
 from agents.imitation.clone_stage import train_with_clone_stage
-from agents.run_dir import checkpoints, read_run_config, run_name
+from agents.run_dir import (
+    CONFIG_FILE,
+    checkpoints,
+    model_path,
+    read_run_config,
+    run_name,
+    write_evaluated_files,
+)
 from agents.sb3.recipes import run_recipe
-
-# The files of a run directory an evaluation needs (``agents.sb3.learned.LearnedAgent``).
-EVALUATED_RUN_FILES = ("model.zip", "config.yml")
+from agents.sb3.training import TrainSettings
 
 
 @dataclass(frozen=True)
@@ -37,9 +42,9 @@ class TrainingTrial:
     may run in another working directory, writes to the same place). ``timesteps``: ``None`` for
     the recipe's ``n_timesteps``. ``cpus``: the CPUs the trial declares, used as its torch
     threads and its environment batch's threads. ``n_envs``: ``None`` for the recipe's.
-    ``init_from``: a run directory or model file to warm-start from (``train``'s), or None.
-    ``imitation``: overrides of the recipe's imitation section (the clone stage,
-    ``train``'s); ``from_scratch``: skip that stage (``train``'s)."""
+    ``init_from``: a run directory or model file to warm-start from (``TrainSettings``'), or
+    None. ``imitation``: overrides of the recipe's imitation section (the clone stage's,
+    ``train_with_clone_stage``); ``from_scratch``: skip that stage (``TrainSettings``')."""
 
     algo: str
     map_mode: str
@@ -80,7 +85,7 @@ def changed_recipe_keys(trial: TrainingTrial) -> list[str]:
     try:
         config = read_run_config(trial.run_dir, required=("algo", "map", "hyperparams", "versions"))
     except ValueError:
-        return ["config.yml"]
+        return [CONFIG_FILE]
     recorded = config["hyperparams"]
     recipe = run_recipe(trial.algo, trial.map_mode, timesteps=trial.timesteps, n_envs=trial.n_envs)
     keys = (recipe.keys() | recorded.keys()) - {"imitation"}
@@ -92,7 +97,7 @@ def discard_run(run_dir: Path) -> None:
     first, so that a kill in between leaves no model beside a config that does not describe
     it); ``config.yml`` and ``progress.csv`` are rewritten by the new run, and the clone in
     ``imitation/`` stays for the clone stage to reuse or replace."""
-    (run_dir / "model.zip").unlink(missing_ok=True)
+    model_path(run_dir).unlink(missing_ok=True)
     for _, path in checkpoints(run_dir):
         path.unlink()
 
@@ -104,7 +109,7 @@ def train_trial(trial: TrainingTrial, progress_bar: bool = False) -> Path:
     (``changed_recipe_keys``: a recipe edited since, another budget) is discarded and
     trained again, with a line saying which keys changed. Returns the run directory."""
     run_dir = trial.run_dir
-    if (run_dir / "model.zip").is_file() or checkpoints(run_dir):
+    if model_path(run_dir).is_file() or checkpoints(run_dir):
         changed = changed_recipe_keys(trial)
         if changed:
             print(
@@ -113,7 +118,7 @@ def train_trial(trial: TrainingTrial, progress_bar: bool = False) -> Path:
                 flush=True,
             )
             discard_run(run_dir)
-        elif (run_dir / "model.zip").is_file():
+        elif model_path(run_dir).is_file():
             print(f"reusing {run_dir}", flush=True)
             return run_dir
     resume = bool(checkpoints(run_dir))
@@ -122,7 +127,7 @@ def train_trial(trial: TrainingTrial, progress_bar: bool = False) -> Path:
         f"seed {trial.seed}",
         flush=True,
     )
-    return train_with_clone_stage(
+    settings = TrainSettings(
         trial.algo,
         trial.map_mode,
         out=Path(trial.runs),
@@ -135,18 +140,9 @@ def train_trial(trial: TrainingTrial, progress_bar: bool = False) -> Path:
         resume=resume,
         code=trial.code,
         init_from=None if resume or trial.init_from is None else Path(trial.init_from),
-        imitation=trial.imitation,
         from_scratch=trial.from_scratch,
     )
-
-
-def run_files(run_dir: Path) -> dict[str, bytes]:
-    """The files of ``run_dir`` an evaluation shard needs, to send to a machine that may not
-    see ``run_dir``."""
-    missing = [name for name in EVALUATED_RUN_FILES if not (run_dir / name).is_file()]
-    if missing:
-        raise ValueError(f"{run_dir} is not a finished training run: it lacks {missing}")
-    return {name: (run_dir / name).read_bytes() for name in EVALUATED_RUN_FILES}
+    return train_with_clone_stage(settings, trial.imitation)
 
 
 def evaluate_shard(
@@ -166,8 +162,7 @@ def evaluate_shard(
 
         torch.set_num_threads(1)
         with tempfile.TemporaryDirectory(prefix="tactile_search_run_") as tmp:
-            for name, content in files.items():
-                (Path(tmp) / name).write_bytes(content)
+            write_evaluated_files(Path(tmp), files)
             # The agent holds the model in memory from here on.
             agent, env_kwargs = make_agent(tmp, actions)
     # One episode at a time on one thread: the task declares one CPU.

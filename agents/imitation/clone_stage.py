@@ -5,7 +5,7 @@ A recipe with an ``imitation`` section (``agents/hyperparams/ppo.yml``,
 ``agents.train`` and the grid's trials run) first imitates the section's teacher (the GPIS
 probe planner unless it names another, ``agents.imitation.teachers``) into the recipe's
 network (``agents.imitation.training``: behaviour cloning and DAgger) as a run of its own in
-``<run_dir>/imitation/``, then trains that clone with PPO
+``<run_dir>/imitation/`` (``agents.run_dir.clone_dir``), then trains that clone with PPO
 (``agents.sb3.training.train``, warm-started from it); the run's ``config.yml`` records the
 section as the clone stage ran it and the clone's digest under ``init_from``. Started again,
 a run reuses a finished clone of the same algorithm, settings, seed and network, and a clone
@@ -14,12 +14,11 @@ stage killed half-way starts again from the teacher's demonstrations it kept.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import zipfile
 from pathlib import Path
 from typing import Any
-
-import yaml
 
 from agents.imitation.demonstrations import Demonstrations
 from agents.imitation.teachers import PLANNER
@@ -29,18 +28,16 @@ from agents.imitation.training import (
     imitate_into,
     run_layouts,
 )
-from agents.run_dir import CONFIG_FILE, MODEL_FILE, holds_unfinished_run, run_name
+from agents.run_dir import (
+    TEACHER_DEMONSTRATIONS_FILE,
+    clone_dir,
+    holds_unfinished_run,
+    model_path,
+    recorded_config,
+)
 from agents.sb3.recipes import load_hyperparams
-from agents.sb3.training import train
+from agents.sb3.training import TrainSettings, train
 from tactile_search import ENV_ID
-
-#: Where a PPO run whose recipe has an ``imitation`` section keeps the clone it fine-tunes
-#: (``clone_stage``), a run directory of its own inside the PPO run's.
-CLONE_DIR = "imitation"
-#: The teacher's demonstrations a clone stage keeps, so that a stage started again after a
-#: kill clones the same demonstrations without recording them again (the planner's; another
-#: teacher's carry a digest of its spec, ``teacher_demonstrations_file``).
-TEACHER_DEMONSTRATIONS_FILE = "teacher_demonstrations.npz"
 
 
 def teacher_demonstrations_file(teacher: str) -> str:
@@ -86,19 +83,19 @@ def clone_stage(
     clone finished). A stage killed half-way starts again from the teacher's
     demonstrations it kept. Returns the clone's run directory."""
     settings = ImitationSettings.from_recipe(recipe["imitation"], seed)
-    clone_dir = Path(run_dir) / CLONE_DIR
-    if _is_finished_clone(clone_dir, algo, recipe, settings, seed):
-        print(f"reusing the clone in {clone_dir}", flush=True)
-        return clone_dir
-    (clone_dir / MODEL_FILE).unlink(missing_ok=True)  # another recipe's clone
-    teacher_file = clone_dir / teacher_demonstrations_file(settings.teacher)
+    directory = clone_dir(run_dir)
+    if _is_finished_clone(directory, algo, recipe, settings, seed):
+        print(f"reusing the clone in {directory}", flush=True)
+        return directory
+    model_path(directory).unlink(missing_ok=True)  # another recipe's clone
+    teacher_file = directory / teacher_demonstrations_file(settings.teacher)
     teacher_layouts = run_layouts(seed, settings)[: settings.demo_episodes]
     if teacher_file.is_file() and not _holds_layouts(teacher_file, teacher_layouts):
         teacher_file.unlink()
-    clone_dir.mkdir(parents=True, exist_ok=True)
-    print(f"imitating the teacher into {clone_dir}", flush=True)
+    directory.mkdir(parents=True, exist_ok=True)
+    print(f"imitating the teacher into {directory}", flush=True)
     return imitate_into(
-        clone_dir,
+        directory,
         recipe,
         algo=algo,
         seed=seed,
@@ -115,10 +112,9 @@ def _is_finished_clone(
 ) -> bool:
     """Whether ``clone_dir`` holds a finished clone of ``settings``, ``seed`` and the
     network and env of ``algo``'s ``recipe``."""
-    config_path = clone_dir / CONFIG_FILE
-    if not (clone_dir / MODEL_FILE).is_file() or not config_path.is_file():
+    if not model_path(clone_dir).is_file():
         return False
-    config = yaml.safe_load(config_path.read_text())
+    config = recorded_config(clone_dir)
     if not isinstance(config, dict) or (config.get("algo"), config.get("seed")) != (algo, seed):
         return False
     recorded = config.get("imitation") or {}
@@ -139,67 +135,48 @@ def _holds_layouts(path: Path, layouts: list[int]) -> bool:
 
 
 def train_with_clone_stage(
-    algo: str,
-    map_mode: str,
-    *,
-    out: Path = Path("runs"),
-    seed: int = 0,
-    hyperparams: Path | None = None,
-    env_id: str = ENV_ID,
-    n_envs: int | None = None,
-    torch_threads: int = 2,
-    progress_bar: bool = True,
-    resume: bool = False,
-    init_from: Path | None = None,
-    from_scratch: bool = False,
-    imitation: dict[str, Any] | None = None,
-    **train_kwargs: Any,
+    settings: TrainSettings, imitation_overrides: dict[str, Any] | None = None
 ) -> Path:
-    """``agents.sb3.training.train``, with the recipe's clone stage first when it has one;
-    the run directory. ``imitation`` overrides keys of the recipe's section
-    (``{"demo_episodes": 200}``). A resumed run, a warm start (``init_from``) and
-    ``from_scratch`` clone nothing; the other arguments are ``train``'s."""
-    common = {
-        "out": out,
-        "seed": seed,
-        "hyperparams": hyperparams,
-        "env_id": env_id,
-        "n_envs": n_envs,
-        "torch_threads": torch_threads,
-        "progress_bar": progress_bar,
-        **train_kwargs,
-    }
-    recipe = load_hyperparams(algo, map_mode, env_id, hyperparams)
+    """``agents.sb3.training.train`` of ``settings``, with the recipe's clone stage first when
+    it has one; the run directory. ``imitation_overrides`` overrides keys of the recipe's
+    section (``{"demo_episodes": 200}``). A resumed run, a warm start (``init_from``) and
+    ``from_scratch`` clone nothing; the clone stage passes ``train`` the clone as
+    ``init_from`` and the section as it ran as ``imitation``."""
+    if not isinstance(settings, TrainSettings):
+        raise TypeError(
+            f"train_with_clone_stage takes a TrainSettings, got {type(settings).__name__}"
+        )
+    recipe = load_hyperparams(
+        settings.algo, settings.map_mode, settings.env_id, settings.hyperparams
+    )
     if "imitation" not in recipe:
-        if imitation:
+        if imitation_overrides:
             raise ValueError(
-                f"imitation settings were given, but the {algo} recipe for the {map_mode} map "
-                "has no imitation section"
+                f"imitation settings were given, but the {settings.algo} recipe for the "
+                f"{settings.map_mode} map has no imitation section"
             )
-        return train(algo, map_mode, resume=resume, init_from=init_from, **common)
-    run_dir = Path(out) / run_name(algo, map_mode, seed)
-    if resume or init_from is not None or from_scratch or holds_unfinished_run(run_dir):
+        return train(settings)
+    run_dir = settings.run_dir
+    if (
+        settings.resume
+        or settings.init_from is not None
+        or settings.from_scratch
+        or holds_unfinished_run(run_dir)
+    ):
         # Nothing to clone: the run resumes, starts from another model or from fresh
         # weights (or ``train`` refuses to start afresh over an unfinished run).
-        return train(
-            algo,
-            map_mode,
-            resume=resume,
-            init_from=init_from,
-            from_scratch=from_scratch,
-            **common,
-        )
+        return train(settings)
     # clone_stage reads (and refuses bad) settings before any work.
-    section = with_overrides(recipe["imitation"], imitation or {})
-    if n_envs is not None:
-        recipe["n_envs"] = int(n_envs)
-    clone_dir = clone_stage(
+    section = with_overrides(recipe["imitation"], imitation_overrides or {})
+    if settings.n_envs is not None:
+        recipe["n_envs"] = int(settings.n_envs)
+    clone = clone_stage(
         run_dir,
         {**recipe, "imitation": section},
-        algo=algo,
-        seed=seed,
-        torch_threads=torch_threads,
-        env_id=env_id,
-        progress=progress_bar,
+        algo=settings.algo,
+        seed=settings.seed,
+        torch_threads=settings.torch_threads,
+        env_id=settings.env_id,
+        progress=settings.progress_bar,
     )
-    return train(algo, map_mode, init_from=clone_dir, imitation=section, **common)
+    return train(dataclasses.replace(settings, init_from=clone, imitation=section))

@@ -8,8 +8,8 @@ A teacher is named by a spec, the ``teacher`` key of a recipe's ``imitation`` se
 - ``ensemble:RUN,RUN,...``: training seeds of one learned agent acting as one
   (``agents.evaluation.ensemble``), the mode of their averaged probe probabilities. They
   read only the observation, so they label any state a student visits; distilling them into
-  one policy keeps what averaging the seeds gains (issue 24's measurement: the GPIS seeds'
-  ensemble passes the planner on the validation layouts where each seed alone does not).
+  one policy keeps what averaging the seeds gains (``docs/RESULTS.md``, "Distilling the
+  seeds' ensemble").
 
 Both act through the probe interface: ``reset(env, observation, info)``, ``act(observation)``,
 ``follow(action)`` (the probe the env carries out instead, in DAgger), and ``env_kwargs``: the

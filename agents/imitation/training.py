@@ -31,15 +31,16 @@ from agents.imitation.demonstrations import Demonstrations, record
 from agents.imitation.mirror import check_symmetric, mirrored
 from agents.imitation.teachers import PLANNER, check_teacher
 from agents.run_dir import (
-    MODEL_FILE,
     code_version,
+    demonstrations_path,
     machine,
+    model_path,
+    round_dir,
     run_name,
     save_model_atomically,
     versions,
     write_run_config,
 )
-from agents.sb3.anchor import DEMONSTRATIONS_FILE
 from agents.sb3.recipes import algorithm_class, load_hyperparams, new_model
 from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS, make_training_env
 from agents.scripted.geometry import Geometry
@@ -48,9 +49,6 @@ from tactile_search._validation import as_bool, as_count
 
 #: The share of the teacher's layouts held out to measure agreement.
 HELD_OUT = 0.1
-#: Where a run keeps the student before each DAgger round, as runs of their own
-#: (``rounds/round0`` is behaviour cloning alone).
-ROUNDS_DIR = "rounds"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -230,7 +228,7 @@ def imitate_into(
         }
         directory.mkdir(parents=True, exist_ok=True)
         write_run_config(directory, {**config, **done})
-        save_model_atomically(model, directory / MODEL_FILE)
+        save_model_atomically(model, model_path(directory))
 
     augmented = _augmentation(settings.mirror, env_kwargs)
     train = augmented(train)
@@ -242,7 +240,7 @@ def imitate_into(
     probes = len(demonstrations)
     for index in range(1, settings.dagger_rounds + 1):
         # The student before this round, as its own run (BC alone is round 0).
-        save(run_dir / ROUNDS_DIR / f"round{index - 1}", probes, f"{label}_round{index - 1}")
+        save(round_dir(run_dir, index - 1), probes, f"{label}_round{index - 1}")
         start = settings.demo_episodes + (index - 1) * settings.dagger_episodes
         round_layouts = layouts[start : start + settings.dagger_episodes]
         torch.manual_seed(seed * 1000 + index)
@@ -263,7 +261,7 @@ def imitate_into(
         say(f"DAgger round {index}: {rounds[-1]}")
     save(run_dir, probes, label)
     # What the last clone learned from, for anchoring PPO fine-tuning to it.
-    gathered.save(run_dir / DEMONSTRATIONS_FILE)
+    gathered.save(demonstrations_path(run_dir))
     return run_dir
 
 

@@ -10,7 +10,8 @@ an unknown setting raises the env's ``TypeError``, a bad value its ``TypeError``
 Each env runner then holds one ``CupboardSearchVectorEnv`` with all its
 ``num_envs_per_env_runner`` episodes, on one Rust worker thread (``threads=1``: a runner
 reserves one CPU, so its env must not take more), drawing training layouts only
-(``agents.sb3.training_env.TRAIN_LAYOUT_SEEDS``, disjoint from the held-out layouts below 2**32).
+(``agents.sb3.training_env.TRAIN_LAYOUT_SEEDS``, disjoint from the held-out layouts of
+``tactile_search.seed_ranges``).
 
 Seeding contract (vector-entry-point mode):
 

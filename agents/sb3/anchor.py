@@ -3,7 +3,7 @@ demonstrations it reads, which ``agents.imitation`` writes).
 
 Fine-tuned with PPO alone, a policy cloned from the planner improves for a while and then
 drifts: its entropy collapses and it learns to repeat probes until the time runs out
-(docs/RESULTS.md, issue 24's rows). The anchor keeps it near what it was taught: before
+(docs/RESULTS.md, "Learning from the planner"). The anchor keeps it near what it was taught: before
 every rollout (after the previous update), a few minibatches of the demonstrations the
 policy was cloned from are trained on again, their negative log-likelihood weighted by a
 weight that decays linearly to zero over the first ``decay_timesteps``: the policy starts
@@ -20,10 +20,9 @@ from typing import Any
 
 import numpy as np
 
+from agents.run_dir import demonstrations_beside
 from tactile_search._validation import as_count
 
-#: The demonstrations an imitation run keeps beside its model: what its last clone learned.
-DEMONSTRATIONS_FILE = "demonstrations.npz"
 #: The prefix of an observation key's array in a file of demonstrations.
 OBSERVATION_PREFIX = "observation_"
 
@@ -112,7 +111,7 @@ def behaviour_cloning_anchor(
 def anchor_demonstrations(init_from: Path) -> Demonstrated:
     """The demonstrations kept beside the model ``init_from`` (an imitation run's
     ``model.zip``); ``ValueError`` naming the file when there are none."""
-    path = Path(init_from).parent / DEMONSTRATIONS_FILE
+    path = demonstrations_beside(Path(init_from))
     if not path.is_file():
         raise ValueError(
             f"the recipe anchors fine-tuning to the demonstrations of init_from, but "

@@ -1,8 +1,8 @@
-"""The PPO update in bfloat16 where the CPU has AMX (issue 25: the learner's cost).
+"""The PPO update in bfloat16 where the CPU has AMX: the learner's cost.
 
-A map agent's training spends about three quarters of its time in PPO's update (``n_epochs``
-passes of forward and backward through the IMPALA-style encoder), measured with
-``python -m benchmarks.learner_speed``. On a CPU with AMX tiles (``amx_bf16`` among
+A map agent's training spends most of its time in PPO's update (``n_epochs`` passes of
+forward and backward through the map encoder; ``python -m benchmarks.learner_speed``
+measures it). On a CPU with AMX tiles (``amx_bf16`` among
 ``/proc/cpuinfo``'s flags) oneDNN runs bfloat16 convolutions and matrix products several
 times faster than float32; elsewhere bfloat16 is emulated and slower. So a recipe's
 ``bfloat16_updates: true`` trains with ``bfloat16_update_class(cls)``: the algorithm's
@@ -12,12 +12,10 @@ the saved weights stay float32; the probe policies keep their logits and the dis
 over probes in float32 under autocast (``JointCategoricalDistribution``,
 ``SpatialProbeHead``), so PPO's probability ratios are not rounded to bfloat16's 8 bits.
 
-Measured on an AMX CPU, one torch thread, side by side (``python -m benchmarks.learner_speed
---variants recipe recipe:bfloat16_updates=true recipe:bfloat16_updates=true,n_epochs=5
---timesteps 1024 --rounds 3``): the GPIS recipe's update 8.38 -> 6.48 ms per trained probe,
-1.17x its trained probes/s; with 5 epochs per rollout instead of 10, 1.72x. The PPO recipes
-set it, with 4 epochs, since a validation ablation kept (and raised) success
-(docs/RESULTS.md, "The learner in bfloat16 with fewer epochs").
+What it gains on a given CPU, ``python -m benchmarks.learner_speed --variants recipe
+recipe:bfloat16_updates=true`` prints. The PPO recipes set it, with 4 epochs per rollout,
+since a validation ablation kept success (docs/RESULTS.md, "The learner in bfloat16 with
+fewer epochs").
 """
 
 from __future__ import annotations

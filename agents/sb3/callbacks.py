@@ -10,9 +10,10 @@ from pathlib import Path
 from typing import Any
 
 from agents.run_dir import (
-    CHECKPOINT_DIR,
     CHECKPOINT_PREFIX,
+    checkpoint_dir,
     checkpoints,
+    progress_path,
     save_model_atomically,
     write_atomically,
 )
@@ -54,7 +55,7 @@ def make_logger(run_dir: Path, kept: tuple[list[str], list[str]] | None = None) 
             self.separator = ","
             self.quotechar = '"'
 
-    path = Path(run_dir) / "progress.csv"
+    path = progress_path(run_dir)
     if kept is None:
         csv_format = CSVOutputFormat(str(path))
     else:
@@ -77,7 +78,7 @@ def rollout_checkpoints(run_dir: Path, every: int, keep: int, on_save: Any = Non
         def __init__(self) -> None:
             super().__init__(
                 save_freq=every,
-                save_path=str(Path(run_dir) / CHECKPOINT_DIR),
+                save_path=str(checkpoint_dir(run_dir)),
                 name_prefix=CHECKPOINT_PREFIX,
             )
             self._last_saved = 0

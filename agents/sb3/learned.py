@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from agents.run_dir import read_run_config, run_label
+from agents.run_dir import CONFIG_FILE, model_path, read_run_config, run_label
 from agents.sb3.recipes import algorithm_class, load_objects
 from tactile_search.benchmark.policies import EpisodeActions
 from tactile_search.envs.config import REWARD_KEYS
@@ -84,17 +84,17 @@ class LearnedAgent:
     ) -> None:
         run_dir = Path(run_dir)
         self.config: dict[str, Any] = read_run_config(run_dir)
-        model_path = run_dir / "model.zip"
-        if not model_path.is_file():
-            raise ValueError(f"{run_dir} is not a finished training run: {model_path} is missing")
+        model_file = model_path(run_dir)
+        if not model_file.is_file():
+            raise ValueError(f"{run_dir} is not a finished training run: {model_file} is missing")
         self.map_mode: str = self.config["map"]
         #: The settings of the env this agent is evaluated in (``evaluation_env_kwargs``).
         self.env_kwargs: dict[str, Any] = evaluation_env_kwargs(self.config)
         #: What tables call the agent: the run's ``label`` (a variant's name), else its algo.
         self.label: str = run_label(self.config)
         self.name = name or learned_agent_name(self.label, self.map_mode)
-        self.model = load_model(model_path, self.config["algo"], self.config.get("hyperparams"))
-        self._check_spaces(model_path)
+        self.model = load_model(model_file, self.config["algo"], self.config.get("hyperparams"))
+        self._check_spaces(model_file)
         # The policy's mode (argmax, mean) or a sample from it: the recipe says which
         # (``deterministic_evaluation``, default true). Samples come from torch's generator,
         # seeded with the episode's layout seed at every reset, so an episode's actions do not
@@ -104,7 +104,7 @@ class LearnedAgent:
         self.deterministic = deterministic
         self._actions = EpisodeActions(self.model, recurrent=self.config["algo"] == "recurrent_ppo")
 
-    def _check_spaces(self, model_path: Path) -> None:
+    def _check_spaces(self, model_file: Path) -> None:
         """The model's spaces against those of the env it will be evaluated in."""
         from tactile_search import CupboardSearchEnv
 
@@ -117,9 +117,9 @@ class LearnedAgent:
                 got = getattr(self.model, f"{kind}_space")
                 if got != expected:
                     raise ValueError(
-                        f"{model_path} expects the {kind} space {got}, but the env of its "
-                        f"config.yml's settings {self.env_kwargs} has {expected} (config.yml "
-                        "does not belong to this model?)"
+                        f"{model_file} expects the {kind} space {got}, but the env of its "
+                        f"{CONFIG_FILE}'s settings {self.env_kwargs} has {expected} "
+                        f"({CONFIG_FILE} does not belong to this model?)"
                     )
         finally:
             env.close()

@@ -7,7 +7,8 @@ from typing import Any
 
 from tactile_search import ENV_ID, seed_ranges
 
-# Training layouts are drawn from [2**32, 2**63); evaluation holds out seeds below 2**32.
+# Training draws its layouts from the protocol's training range, disjoint from the held-out
+# ranges the evaluation reads (``tactile_search.seed_ranges``).
 TRAIN_LAYOUT_SEEDS = seed_ranges.TRAINING
 
 

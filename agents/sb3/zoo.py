@@ -14,9 +14,10 @@ repository's root (so that ``agents`` imports)::
     python -m rl_zoo3.train --algo ppo --env tactile_search/CupboardSearch-v0 \\
         --gym-packages tactile_search -conf agents/hyperparams/zoo/ppo_gpis.py
 
-rl-zoo3 seeds its envs itself: their layouts come from the env's own draw over
-``[0, 2**63)``, not from the project's training range (a draw lands in the 2 * 10**6
-held-out layouts with probability about 2e-13).
+rl-zoo3 seeds its envs itself: their layouts come from the env's own draw over its default
+layout range, not from the project's training range (``tactile_search.seed_ranges``); the
+held-out ranges are a vanishing share of that draw, so a held-out layout is almost never
+trained on.
 """
 
 from __future__ import annotations

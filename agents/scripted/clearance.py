@@ -17,9 +17,6 @@ from agents.scripted.search_map import SearchMap, distance_to
 
 # Clearance kept between the wrist or arm and a cell that may hold a jar, m.
 MARGIN = 0.004
-# The turns a safe angle is chosen from: steps of this (rad) up to the largest.
-TURN_STEP = 0.05
-MAX_TURN = 1.0
 # Extra rows and columns of the clearance field beyond the map (outside the cupboard).
 PAD_CELLS = 10
 
@@ -74,8 +71,10 @@ def safe_angle(
 ) -> float:
     """Largest turn towards ``side`` (+1: +x) at wrist ``(x, y)`` keeping the wrist's corners
     and the arm clear (``field``), and stopping where the finger would meet a seen jar
-    (``solid``)."""
-    angles = np.arange(TURN_STEP, MAX_TURN + 1e-9, TURN_STEP)
+    (``solid``). The turns tried are the probe controller's: steps of its sweep rate up to
+    the largest sweep angle of the env's settings (``probe_sweep_rate``,
+    ``probe_max_angle``)."""
+    angles = np.arange(g.probe_sweep_rate, g.probe_max_angle + 1e-9, g.probe_sweep_rate)
     wrist_radius = np.sqrt(2.0) * g.wrist_half_extent + MARGIN + 0.5 * g.cell
     arm_room = g.arm_half_width + MARGIN + 0.5 * g.cell
     along = np.arange(g.wrist_half_extent, g.wrist_half_extent + g.arm_length, g.cell)

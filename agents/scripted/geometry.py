@@ -3,7 +3,7 @@
 No ground truth of an episode: every number comes from the core, from the env's settings
 alone (``CupboardSearchEnv.geometry()``: the cupboard, the camera, the hand's sizes, start
 pose and per-step bounds, the jar radius range, the map grid and its cells' centres, the
-probe action mode's probes); this
+probe action mode's probes; and the env's ``config``: the largest sweep angle); this
 module only gives them typed names.
 """
 
@@ -57,10 +57,12 @@ class Geometry:
     probe_outside: float = dataclasses.field(compare=False)
     #: The probe controller's turn per motion while sweeping, rad.
     probe_sweep_rate: float = dataclasses.field(compare=False)
+    #: The largest sweep angle either way, rad (the env's ``probe_max_angle``).
+    probe_max_angle: float = dataclasses.field(compare=False)
 
     @classmethod
     def from_env(cls, env: CupboardSearchEnv) -> Geometry:
-        return cls(**env.geometry())
+        return cls(**env.geometry(), probe_max_angle=env.config.probe_max_angle)
 
     def cell_centres(self) -> tuple[np.ndarray, np.ndarray]:
         """``(xs, ys)``, each ``(H, W)``: the map cells' centres."""

@@ -20,9 +20,6 @@ seen or touched surfaces, touched jars, shadows not yet swept), with a sweep no 
 the largest safe turn, by the hiding weight (the GPIS std over the cells where the target's
 centre may be) its finger passes over per motion the controller will make (the core counts
 them: ``probe_motions``).
-
-(Until issue 24 a second form of this planner drove the wrist itself, motion by motion, with
-its own finer lanes; ``docs/RESULTS.md`` reports both forms on the validation layouts.)
 """
 
 from __future__ import annotations
