@@ -13,8 +13,8 @@
 //!
 //! `PROPTEST_CASES` sets the number of cases (the long run).
 
-use env_core::episode::probe::ActionMode;
 use env_core::episode::step_info::InfoValue;
+use env_core::episode::ActionMode;
 use env_core::episode::{
     Episode, EpisodeConfig, EpisodeError, MapMode, PROPRIO_LEN, STEP_INFO_FIELDS,
 };
