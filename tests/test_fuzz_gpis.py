@@ -26,7 +26,7 @@ from hypothesis.extra.numpy import array_shapes, arrays, scalar_dtypes
 
 from tactile_search import Gpis, _core
 
-MAX_PSI = 1e100  # the largest psi the map takes (env_core/src/gpis/map.rs, MAX_PSI)
+MAX_PSI = 1e100  # the largest psi the map takes (env_core/src/gpis/config.rs, MAX_PSI)
 
 DOCUMENTED = (ValueError, TypeError)
 OK, BAD, EITHER = "ok", "bad", "either"
@@ -423,7 +423,7 @@ def test_the_raw_core_refuses_bad_input_without_panicking(
 
 
 def test_huge_bounds_or_psi_are_refused_naming_psi() -> None:
-    """Found by this fuzzer, fixed in env_core/src/gpis/map.rs (``MAX_PSI``): bounds whose
+    """Found by this fuzzer, fixed in env_core/src/gpis/config.rs (``MAX_PSI``): bounds whose
     diagonal exceeded about 3.8e102 (or a psi above about 5.6e102) were accepted, and the
     prior variance psi**3 overflowed to inf. A psi above 1e100, given or the default 1.5 x
     the bounds' diagonal, is refused; 1e100 itself gives a finite map."""
@@ -468,7 +468,7 @@ def refusal_of_a_grid_shape(shape: tuple[int, int]) -> str:
 
 
 def test_a_grid_too_large_to_allocate_raises_instead_of_aborting() -> None:
-    """Found by this fuzzer, fixed in env_core/src/gpis/map.rs (fallible reservations): a
+    """Found by this fuzzer, fixed in env_core/src/gpis/map/ (fallible reservations): a
     grid too large to allocate aborted the process (Rust's "memory allocation of N bytes
     failed") instead of raising. Now a ValueError says how much the grid needs."""
     message = refusal_of_a_grid_shape((100_000, 100_000))

@@ -9,7 +9,7 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use env_core::episode::probe::ActionMode;
+use env_core::episode::ActionMode;
 use env_core::episode::{Episode, EpisodeConfig, MapMode};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -16,7 +16,7 @@
 mod common;
 use common::observe;
 
-use env_core::episode::probe::ActionMode;
+use env_core::episode::ActionMode;
 use env_core::episode::{Episode, EpisodeConfig, MapMode, StepInfo};
 use env_core::scene::HandPose;
 use rand::{Rng, SeedableRng};

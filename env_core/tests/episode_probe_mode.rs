@@ -6,7 +6,8 @@ mod common;
 use common::observe;
 
 use env_core::episode::metrics::{footprint_mask, interior_iou};
-use env_core::episode::probe::{ActionMode, Phase, ProbeController};
+use env_core::episode::probe::{Phase, ProbeController};
+use env_core::episode::ActionMode;
 use env_core::episode::{Command, Episode, EpisodeBatch, EpisodeConfig, EpisodeError, MapMode};
 use env_core::episode::{StepInfo, PROPRIO_LEN};
 use rand::{Rng, SeedableRng};

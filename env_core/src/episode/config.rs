@@ -3,9 +3,10 @@
 //! modes) and the scene's settings as sections. The settings table is what the
 //! environment's keyword arguments, its docs and the stub are made from.
 
+use super::action_mode::ActionMode;
 use super::error::EpisodeError;
 use super::maps::MapConfig;
-use super::probe::{check_sweep_rate, ActionMode, ProbeConfig};
+use super::probe_config::{check_sweep_rate, ProbeConfig};
 use crate::scene::SceneConfig;
 use crate::settings;
 use crate::settings::{Range, SettingError, Settings};

@@ -11,6 +11,7 @@
 
 use std::sync::Arc;
 
+use super::action_mode::ActionMode;
 use super::approach::{fingertip, ApproachField};
 use super::config::EpisodeConfig;
 use super::error::EpisodeError;
@@ -19,7 +20,7 @@ use super::maps::occupancy::OccupancyGrid;
 use super::maps::{AgentMap, MapKind};
 use super::metrics::footprint_mask;
 use super::observation::{proprio, PROPRIO_LEN};
-use super::probe::{ActionMode, Phase, ProbeController};
+use super::probe::{Phase, ProbeController};
 use super::step_info::StepInfo;
 use crate::gpis::{run_each, Gpis, GridSpec, SerialTiles, TileRunner};
 use crate::scene::{Contact, HandCommand, Scene};

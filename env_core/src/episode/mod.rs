@@ -12,12 +12,14 @@
 //! - [`metrics`]: true footprints and the IoU of a map against them.
 //! - [`level_set`], [`outline`]: the map's zero level set and its distance to the true
 //!   outlines.
-//! - [`probe`]: the `probe` action mode (a lane, depth and sweep per step) and its
-//!   controller.
+//! - [`action_mode`]: what an action means (a wrist motion or a probe per step).
+//! - [`probe`]: the `probe` action mode's controller (a lane, depth and sweep per step,
+//!   carried out motion by motion); [`probe_config`]: its settings.
 //! - [`oracle`]: a scripted searcher that knows the target (the upper bound).
 //! - [`Episode`]: reset, step, observations.
 //! - [`EpisodeBatch`]: many episodes stepped on all cores.
 
+pub mod action_mode;
 pub mod approach;
 pub mod batch;
 pub mod config;
@@ -31,10 +33,12 @@ pub mod observation;
 pub mod oracle;
 pub mod outline;
 pub mod probe;
+pub mod probe_config;
 pub mod shared_tiles;
 pub mod static_geometry;
 pub mod step_info;
 
+pub use action_mode::ActionMode;
 pub use batch::{Command, EpisodeBatch};
 pub use config::{EpisodeConfig, RewardConfig};
 pub use episode::Episode;
@@ -42,6 +46,7 @@ pub use error::EpisodeError;
 pub use maps::{MapConfig, MapMode};
 pub use observation::{decode_proprio, Quantity, PROPRIO_FIELDS, PROPRIO_LEN};
 pub use oracle::oracle_action;
-pub use probe::{ActionMode, Probe, ProbeConfig, ProbeController, ProbeGrid};
+pub use probe::{Probe, ProbeController, ProbeGrid};
+pub use probe_config::ProbeConfig;
 pub use static_geometry::StaticGeometry;
 pub use step_info::{StepInfo, STEP_INFO_FIELDS};

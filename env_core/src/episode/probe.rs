@@ -1,5 +1,6 @@
-//! The `probe` action mode: the agent chooses *where to probe* and an observation-only
-//! controller drives the wrist there (issue 11; the `wrist` mode, v0's, is unchanged).
+//! The controller of the `probe` action mode: the agent chooses *where to probe* and this
+//! observation-only controller drives the wrist there (the `wrist` mode, v0's, moves the
+//! wrist directly). Its settings are [`ProbeConfig`] ([`super::probe_config`]).
 //!
 //! An action is three indices, a `MultiDiscrete([lanes, depths, sweeps])`:
 //! - a lane `x` across the opening (`probe_lanes` evenly spaced lanes that keep the wrist
@@ -26,10 +27,9 @@
 
 use super::config::EpisodeConfig;
 use super::error::EpisodeError;
+use super::probe_config::ProbeConfig;
 use crate::scene::hand::reach;
 use crate::scene::{HandConfig, HandPose};
-use crate::settings;
-use crate::settings::{Choice, Range, SettingError};
 
 /// The wrist keeps this much room to the side walls in the outermost lanes, m.
 pub const LANE_WALL_CLEARANCE: f64 = 0.005;
@@ -37,56 +37,6 @@ pub const LANE_WALL_CLEARANCE: f64 = 0.005;
 pub const DEPTH_BACK_CLEARANCE: f64 = 0.005;
 /// "Arrived" within this distance (m) or angle (rad).
 const POSITION_TOLERANCE: f64 = 1e-6;
-
-/// What an action means.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ActionMode {
-    /// v0: a wrist motion per step, `Box(-1, 1, (3,))` scaled by the hand's bounds.
-    Wrist,
-    /// A probe per step (lane, depth, sweep indices), driven by the controller.
-    Probe,
-}
-
-impl Choice for ActionMode {
-    const NAMES: &'static [&'static str] = &["wrist", "probe"];
-    const ANNOTATION: &'static str = "Literal['wrist', 'probe']";
-    const EXPECTED: &'static str = "'wrist' or 'probe'";
-
-    fn from_index(index: usize) -> Self {
-        [Self::Wrist, Self::Probe][index]
-    }
-
-    fn index(self) -> usize {
-        self as usize
-    }
-}
-
-settings! {
-    /// The probes of the `probe` action mode and how the controller carries them out.
-    pub struct ProbeConfig {
-        /// Lanes across the opening a probe can go in by (the first action index).
-        lanes: usize = 29 => "probe_lanes" in Range::closed(1.0, 1000.0),
-        /// Wrist depths a probe can go to (the second action index).
-        depths: usize = 10 => "probe_depths" in Range::closed(1.0, 1000.0),
-        /// Sweep angles a probe can turn the finger to (the third action index); odd counts
-        /// include 0 (no turn).
-        sweeps: usize = 9 => "probe_sweeps" in Range::closed(1.0, 1000.0),
-        /// Largest sweep angle either way, rad.
-        max_angle: f64 = 1.0 => "probe_max_angle" in Range::left_open(0.0, 1.5),
-        /// The controller's turn per motion while sweeping, rad (at most the hand's
-        /// max_step_yaw).
-        sweep_rate: f64 = 0.05 => "probe_sweep_rate" in Range::left_open(0.0, 1.5),
-    }
-    sections {}
-    check_across = |_| Ok(());
-}
-
-impl ProbeConfig {
-    /// The action's index counts: `[lanes, depths, sweeps]`.
-    pub fn counts(&self) -> [usize; 3] {
-        [self.lanes, self.depths, self.sweeps]
-    }
-}
 
 /// `count` evenly spaced values over `[low, high]` (the middle one for a count of 1).
 fn spaced(index: usize, count: usize, low: f64, high: f64) -> f64 {
@@ -305,19 +255,6 @@ impl ProbeController {
 /// More motions than any probe of a valid configuration takes (the farthest lane change
 /// and the widest sweep at the slowest rates are a few thousand).
 const MAX_PROBE_MOTIONS: usize = 1_000_000;
-
-/// The sweep rate must not exceed the hand's turn per step.
-pub fn check_sweep_rate(probe: &ProbeConfig, hand: &HandConfig) -> Result<(), SettingError> {
-    if probe.sweep_rate <= hand.max_step_yaw {
-        Ok(())
-    } else {
-        Err(SettingError::out_of_range(
-            "probe_sweep_rate",
-            format!("at most max_step_yaw ({})", hand.max_step_yaw),
-            probe.sweep_rate.to_string(),
-        ))
-    }
-}
 
 #[cfg(test)]
 mod tests {

@@ -5,6 +5,7 @@
 //! fixed ψ (see [`kernel`]); the posterior is kept exact and updated incrementally (see
 //! [`map`]), with [`full_recompute`] as the from-scratch reference.
 
+pub mod config;
 pub mod error;
 pub mod full_recompute;
 pub mod grid;
@@ -14,9 +15,10 @@ pub mod observation;
 mod rejecting_cholesky;
 pub mod tiles;
 
+pub use config::{GpisConfig, GpisDefaults, GPIS_DEFAULTS};
 pub use error::GpisError;
 pub use grid::GridSpec;
 pub use kernel::{RowKind, ThinPlateKernel};
-pub use map::{AddReport, Gpis, GpisConfig, GpisDefaults, Prediction, GPIS_DEFAULTS};
+pub use map::{AddReport, Gpis, Prediction};
 pub use observation::{Observation, Row};
 pub use tiles::{run_each, SerialTiles, TileRunner};
