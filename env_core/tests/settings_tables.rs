@@ -1,13 +1,13 @@
 //! The settings tables are the one description of every setting: each round-trips through
 //! its value, each refuses a value of the wrong type and one out of its range with an error
 //! that names the key as the user types it, and keys are unique across the scene and the
-//! episode.
+//! episode. A choice's annotation and error words are made from its names.
 
 use std::collections::HashSet;
 
-use env_core::episode::EpisodeConfig;
-use env_core::scene::SceneConfig;
-use env_core::settings::{Limit, Range, SettingError, SettingValue, Settings};
+use env_core::episode::{ActionMode, EpisodeConfig, MapMode};
+use env_core::scene::{JarShape, SceneConfig, TargetShape};
+use env_core::settings::{Choice, Limit, Range, SettingError, SettingValue, Settings};
 
 /// A number outside `range`, if the range has an end.
 fn outside(range: &Range) -> Option<f64> {
@@ -142,4 +142,48 @@ fn a_count_given_as_one_int_means_that_many_and_optional_settings_take_none() {
         .unwrap();
     assert_eq!(config.scene.camera.intrinsics().fx, 100.0);
     assert!(config.check_settings().is_ok());
+}
+
+/// Every variant of a choice, by its index, round-trips through its index and its name.
+fn check_choice<T: Choice + PartialEq + std::fmt::Debug>() {
+    for (index, name) in T::NAMES.iter().enumerate() {
+        let variant = T::from_index(index);
+        assert_eq!(variant.index(), index);
+        assert_eq!(variant.name(), *name);
+        assert_eq!(T::parse(name), Some(variant));
+    }
+}
+
+#[test]
+fn a_choices_annotation_and_words_are_made_from_its_names() {
+    assert_eq!(TargetShape::NAMES, ["round", "square", "any"]);
+    assert_eq!(
+        <TargetShape as Choice>::ANNOTATION,
+        "Literal['round', 'square', 'any']"
+    );
+    assert_eq!(
+        <TargetShape as Choice>::EXPECTED,
+        "'round', 'square' or 'any'"
+    );
+    assert_eq!(
+        <ActionMode as Choice>::ANNOTATION,
+        "Literal['wrist', 'probe']"
+    );
+    assert_eq!(<ActionMode as Choice>::EXPECTED, "'wrist' or 'probe'");
+    assert_eq!(
+        <MapMode as Choice>::EXPECTED,
+        "'gpis', 'occupancy' or 'none'"
+    );
+    check_choice::<TargetShape>();
+    check_choice::<ActionMode>();
+    check_choice::<MapMode>();
+    // A jar's shape is named as `target_shape` names it.
+    assert_eq!(
+        JarShape::Round { radius: 0.02 }.name(),
+        TargetShape::Round.name()
+    );
+    assert_eq!(
+        JarShape::Square { half_side: 0.02 }.name(),
+        TargetShape::Square.name()
+    );
 }

@@ -2,8 +2,6 @@
 //! controller of [`super::probe`]. An episode-level setting (`action_mode`, in
 //! [`super::config::EpisodeConfig`]).
 
-use crate::settings::Choice;
-
 /// What an action means.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ActionMode {
@@ -13,16 +11,9 @@ pub enum ActionMode {
     Probe,
 }
 
-impl Choice for ActionMode {
-    const NAMES: &'static [&'static str] = &["wrist", "probe"];
-    const ANNOTATION: &'static str = "Literal['wrist', 'probe']";
-    const EXPECTED: &'static str = "'wrist' or 'probe'";
-
-    fn from_index(index: usize) -> Self {
-        [Self::Wrist, Self::Probe][index]
-    }
-
-    fn index(self) -> usize {
-        self as usize
+crate::choice! {
+    ActionMode {
+        Wrist => "wrist",
+        Probe => "probe",
     }
 }

@@ -11,7 +11,7 @@ use std::f64::consts::PI;
 use super::camera_intrinsics::CameraIntrinsics;
 use super::error::SceneError;
 use crate::settings;
-use crate::settings::{Choice, Range, SettingError, Settings};
+use crate::settings::{Range, SettingError, Settings};
 
 /// Which shape the hidden target jar has.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -24,17 +24,11 @@ pub enum TargetShape {
     Any,
 }
 
-impl Choice for TargetShape {
-    const NAMES: &'static [&'static str] = &["round", "square", "any"];
-    const ANNOTATION: &'static str = "Literal['round', 'square', 'any']";
-    const EXPECTED: &'static str = "'round', 'square' or 'any'";
-
-    fn from_index(index: usize) -> Self {
-        [Self::Round, Self::Square, Self::Any][index]
-    }
-
-    fn index(self) -> usize {
-        self as usize
+crate::choice! {
+    TargetShape {
+        Round => "round",
+        Square => "square",
+        Any => "any",
     }
 }
 
@@ -57,11 +51,15 @@ settings! {
     check_across = |_| Ok(());
 }
 
+/// Most jars a layout holds, target included: the top of `jar_count`'s range, and what an
+/// explicit layout is checked against ([`super::layout::Layout::check`]).
+pub const MAX_JARS: usize = 7;
+
 settings! {
     /// The seeded layout generator: jar population, target hiding and the corridor to it.
     pub struct LayoutConfig {
         /// Range of the number of jars, target included (an int n means exactly n).
-        jar_count: [usize; 2] = [3, 7] => "jar_count" in Range::closed(1.0, 7.0),
+        jar_count: [usize; 2] = [3, 7] => "jar_count" in Range::closed(1.0, MAX_JARS as f64),
         /// Probability that a non-target jar is round (else square).
         round_fraction: f64 = 0.5 => "round_fraction" in Range::UNIT,
         /// Shape of the target; 'any' draws it like the other jars.

@@ -4,6 +4,9 @@
 //! rendering and the paper's experiments alike. Cost: O(1) per query, O(samples) per
 //! outline.
 
+use super::config::TargetShape;
+use crate::settings::Choice;
+
 /// The cross-section of a jar.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum JarShape {
@@ -20,11 +23,11 @@ pub enum JarShape {
 }
 
 impl JarShape {
-    /// `"round"` or `"square"`.
+    /// `"round"` or `"square"`: the name `target_shape` gives this shape.
     pub fn name(self) -> &'static str {
         match self {
-            Self::Round { .. } => "round",
-            Self::Square { .. } => "square",
+            Self::Round { .. } => TargetShape::Round.name(),
+            Self::Square { .. } => TargetShape::Square.name(),
         }
     }
 

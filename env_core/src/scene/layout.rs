@@ -15,7 +15,7 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::config::{LayoutConfig, TargetShape};
+use super::config::{LayoutConfig, TargetShape, MAX_JARS};
 use super::cupboard::Cupboard;
 use super::depth_camera::DepthCamera;
 use super::error::SceneError;
@@ -242,12 +242,16 @@ impl Layout {
         })
     }
 
-    /// Checks an explicit layout: a valid target index, 1–7 jars with finite positive sizes
-    /// standing inside the interior and below its top, bounding circles not overlapping.
+    /// Checks an explicit layout: a valid target index, 1 to [`MAX_JARS`] jars with finite
+    /// positive sizes standing inside the interior and below its top, bounding circles not
+    /// overlapping.
     pub fn check(&self, cupboard: &Cupboard) -> Result<(), SceneError> {
         let bad = |reason: String| Err(SceneError::InvalidLayout { reason });
-        if self.jars.is_empty() || self.jars.len() > 7 {
-            return bad(format!("expected 1 to 7 jars, got {}", self.jars.len()));
+        if self.jars.is_empty() || self.jars.len() > MAX_JARS {
+            return bad(format!(
+                "expected 1 to {MAX_JARS} jars, got {}",
+                self.jars.len()
+            ));
         }
         if self.target >= self.jars.len() {
             return bad(format!(

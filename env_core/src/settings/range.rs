@@ -3,7 +3,9 @@
 
 use std::fmt;
 
-/// The largest length or coordinate of the scene's settings, m (see [`Range::LENGTH`]).
+/// The largest length or coordinate of the scene's settings, m. The physics (rapier) runs in
+/// f32, which keeps sub-millimetre resolution only over a bounded scene, and turns lengths
+/// beyond f32::MAX into infinities; 100 m is far beyond any cupboard and well inside both.
 pub const MAX_SCENE_LENGTH: f64 = 100.0;
 
 /// One end of a [`Range`].
@@ -37,13 +39,12 @@ impl Range {
     pub const UNIT: Self = Self::closed(0.0, 1.0);
     /// `[1, inf)`: counts of at least one.
     pub const AT_LEAST_ONE: Self = Self::new(Limit::Closed(1.0), Limit::Unbounded);
-    /// `(0, 100]` m: a length in the scene. The physics (rapier) runs in f32, which keeps
-    /// sub-millimetre resolution only over a bounded scene, and turns lengths beyond
-    /// f32::MAX into infinities; 100 m is far beyond any cupboard and well inside both.
+    /// `(0, MAX_SCENE_LENGTH]` m: a length in the scene ([`MAX_SCENE_LENGTH`] says why it
+    /// is bounded).
     pub const LENGTH: Self = Self::left_open(0.0, MAX_SCENE_LENGTH);
-    /// `[0, 100]` m: a length in the scene that may be zero (a gap, a margin, a noise).
+    /// `[0, MAX_SCENE_LENGTH]` m: a length in the scene that may be zero (a gap, a margin, a noise).
     pub const NON_NEGATIVE_LENGTH: Self = Self::closed(0.0, MAX_SCENE_LENGTH);
-    /// `[-100, 100]` m: a coordinate in the scene.
+    /// `[-MAX_SCENE_LENGTH, MAX_SCENE_LENGTH]` m: a coordinate in the scene.
     pub const COORDINATE: Self = Self::closed(-MAX_SCENE_LENGTH, MAX_SCENE_LENGTH);
     /// `[1e-6, 1e6]`: a mass (kg), stiffness or damping the f32 physics represents (the
     /// smallest f32 rounds 1e-300 to 0, which the physics reads as infinite mass).

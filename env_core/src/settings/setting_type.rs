@@ -356,6 +356,53 @@ pub trait Choice: Copy + 'static {
     }
 }
 
+/// Implements [`Choice`] for a fieldless enum from one row per variant, `Variant => "name"`:
+/// the names, the Python annotation (`Literal['a', 'b']`) and the words of the error
+/// (`'a' or 'b'`) are all made from that one list.
+#[macro_export]
+macro_rules! choice {
+    ($ty:ident { $($variant:ident => $name:literal),+ $(,)? }) => {
+        impl $crate::settings::Choice for $ty {
+            const NAMES: &'static [&'static str] = &[$($name),+];
+            const ANNOTATION: &'static str =
+                concat!("Literal[", $crate::__choice_comma_list!($($name),+), "]");
+            const EXPECTED: &'static str = $crate::__choice_or_list!($($name),+);
+
+            fn from_index(index: usize) -> Self {
+                [$(Self::$variant),+][index]
+            }
+
+            fn index(self) -> usize {
+                [$(Self::$variant),+]
+                    .iter()
+                    .position(|&variant| variant == self)
+                    .expect("every variant has a row")
+            }
+        }
+    };
+}
+
+/// `'a', 'b', 'c'` from `"a", "b", "c"` (inside the Python `Literal[...]`), for [`crate::choice!`].
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __choice_comma_list {
+    ($only:literal) => { concat!("'", $only, "'") };
+    ($first:literal, $($rest:literal),+) => {
+        concat!("'", $first, "', ", $crate::__choice_comma_list!($($rest),+))
+    };
+}
+
+/// `'a', 'b' or 'c'` from `"a", "b", "c"` (the words of a choice's error), for [`crate::choice!`].
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __choice_or_list {
+    ($only:literal) => { concat!("'", $only, "'") };
+    ($first:literal, $last:literal) => { concat!("'", $first, "' or '", $last, "'") };
+    ($first:literal, $($rest:literal),+) => {
+        concat!("'", $first, "', ", $crate::__choice_or_list!($($rest),+))
+    };
+}
+
 impl<T: Choice> SettingType for T {
     const ANNOTATION: &'static str = <T as Choice>::ANNOTATION;
     const EXPECTED: &'static str = <T as Choice>::EXPECTED;

@@ -38,19 +38,6 @@ use crate::scene::Contact;
 use crate::settings;
 use crate::settings::{Choice, Range};
 
-/// `'a', 'b' or 'c'` from `"a", "b", "c"` (the error text of a choice).
-macro_rules! or_list {
-    ($only:literal) => { concat!("'", $only, "'") };
-    ($first:literal, $last:literal) => { concat!("'", $first, "' or '", $last, "'") };
-    ($first:literal, $($rest:literal),+) => { concat!("'", $first, "', ", or_list!($($rest),+)) };
-}
-
-/// `'a', 'b', 'c'` from `"a", "b", "c"` (inside the Python `Literal[...]`).
-macro_rules! comma_list {
-    ($only:literal) => { concat!("'", $only, "'") };
-    ($first:literal, $($rest:literal),+) => { concat!("'", $first, "', ", comma_list!($($rest),+)) };
-}
-
 /// The table of map modes: one row per mode declares its module, its [`MapMode`] variant
 /// and name, and dispatches to the module's [`MapKind`].
 macro_rules! map_modes {
@@ -63,17 +50,9 @@ macro_rules! map_modes {
             $( $(#[doc = $doc])+ $variant, )+
         }
 
-        impl Choice for MapMode {
-            const NAMES: &'static [&'static str] = &[$($name),+];
-            const ANNOTATION: &'static str = concat!("Literal[", comma_list!($($name),+), "]");
-            const EXPECTED: &'static str = or_list!($($name),+);
-
-            fn from_index(index: usize) -> Self {
-                [$(Self::$variant),+][index]
-            }
-
-            fn index(self) -> usize {
-                self as usize
+        crate::choice! {
+            MapMode {
+                $( $variant => $name, )+
             }
         }
 
