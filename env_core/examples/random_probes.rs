@@ -7,9 +7,9 @@
 //!
 //! The first argument is the number of probes (layouts 1,000,000.., a new one whenever an
 //! episode ends; the probes drawn from a fixed seed); `stepped` as the second turns off the
-//! fast path of free motion (`fast_free_motion`, on by default) and steps every command. Its first line gives the episodes, the contacts, the GPIS rows the touches added and the summed
-//! reward, so two
-//! builds can be checked to do the same work.
+//! fast path of free motion (`fast_free_motion`, on by default) and steps every command.
+//! Its first line gives the episodes, the contacts, the GPIS rows the touches added and the
+//! summed reward, so two builds can be checked to do the same work.
 
 use env_core::episode::{ActionMode, Episode, EpisodeConfig, MapMode};
 use rand::{Rng, SeedableRng};

@@ -219,8 +219,8 @@ proptest! {
     }
 }
 
-/// Found by the Python fuzzers: bounds with a diagonal near 1e102 gave a prior variance
-/// ψ³ of inf. A ψ above 1e100 (given, or the default from the bounds) is refused.
+/// Bounds with a diagonal near 1e102 would give a prior variance ψ³ of inf: a ψ above
+/// 1e100 (given, or the default from the bounds) is refused.
 #[test]
 fn bounds_too_large_for_the_kernel_are_refused() {
     let config = |bounds, psi| GpisConfig {
@@ -238,8 +238,8 @@ fn bounds_too_large_for_the_kernel_are_refused() {
     assert!(largest.variance_grid().iter().all(|v| v.is_finite()));
 }
 
-/// Found by the Python fuzzers: a grid too large to allocate aborted the process. Its
-/// storage is now allocated fallibly, and the error says how much it needed.
+/// A grid too large to allocate is an error that says how much it needs, not an abort of
+/// the process: its storage is allocated fallibly.
 #[test]
 fn a_grid_too_large_to_allocate_is_an_error_not_an_abort() {
     let error = Gpis::new(GpisConfig {

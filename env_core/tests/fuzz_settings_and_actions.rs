@@ -238,9 +238,9 @@ proptest! {
     }
 }
 
-/// Found by the extremes property: under depth noise of 1e300 (then in range) the occupancy
-/// map's first look walked each ray cell by cell out to its reading, 1e300 m away (it never
-/// returned). The largest noise now allowed puts readings 100 m away.
+/// Under depth noise of 1e300 the occupancy map's first look would walk each ray cell by
+/// cell out to its reading, 1e300 m away, and never return: the largest noise allowed
+/// ([`MAX_SCENE_LENGTH`]) puts readings 100 m away, and every map mode builds and steps.
 #[test]
 fn huge_depth_noise_builds_and_steps_in_every_map_mode() {
     for mode in [MapMode::Gpis, MapMode::Occupancy, MapMode::None] {

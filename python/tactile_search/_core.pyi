@@ -203,11 +203,8 @@ class SceneSettings(TypedDict, total=False):
     stepped command would look for contacts, the hand is farther than rapier's prediction
     distance (2 cm) from every jar (and the finger from every wall). Same wrist pose, steps
     and (empty) readings; the finger is carried undeflected instead of swinging from the
-    wrist's starts and stops. On 200 validation layouts it changed the outcome of 2 of 800
-    probe-mode episodes (the planner's and three learned agents') and none of their success
-    rates (`agents.evaluate --env-settings fast_free_motion=true`); 1.17x fewer instructions
-    for random probes with their resets (`examples/random_probes.rs`). False steps every
-    command. Default True.
+    wrist's starts and stops, which can, rarely, change how an episode goes on. Free motion
+    then costs no physics steps. False steps every command. Default True.
     """
 
 class EpisodeSettings(SceneSettings, total=False):

@@ -1,5 +1,5 @@
 //! Typed errors of the GPIS engine. Each says what was expected and what came; the Python
-//! bindings map them to `ValueError` in one place (`python/errors.rs`).
+//! bindings map them to `ValueError` in one place (`bindings/errors.rs`).
 
 use thiserror::Error;
 
