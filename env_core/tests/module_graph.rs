@@ -7,7 +7,8 @@
 //! functions and test modules) and every path that starts with `crate::`, `super::`,
 //! `self::` or a child module's name, with comments and string literals left out. A path
 //! to an item a module re-exports (`crate::gpis::GridSpec`) leads to the module that
-//! defines it (`gpis::grid`), so a facade's `pub use` lines make no circle of their own.
+//! defines it (`gpis::grid`), so a facade's `pub use` lines make no circle of their own; a
+//! macro exported at the root (`crate::choice!`) leads to the module that defines it.
 //!
 //! A node is a file directly under a layer's folder (`episode::probe`) or a folder of its
 //! own (`episode::maps`, `gpis::map`, with everything below them): a folder's files are one
@@ -273,6 +274,9 @@ struct References {
     reexports: Vec<(ModulePath, String, Vec<String>)>,
     /// Inline modules (`mod tests { … }`).
     inline_modules: Vec<ModulePath>,
+    /// Macros exported at the crate's root (`#[macro_export]`), with the module that
+    /// defines them.
+    exported_macros: Vec<(String, ModulePath)>,
 }
 
 /// The paths, re-exports and inline modules of the file of module `module`.
@@ -297,6 +301,20 @@ fn references(module: &ModulePath, code: &str) -> References {
                 depth -= 1;
                 if inline.last().is_some_and(|&(_, d)| d == depth) {
                     inline.pop();
+                }
+            }
+            "macro_rules" if token(i + 1) == "!" => {
+                // Exported when `#[macro_export]` is among its attributes, which run back to
+                // the end of the item before it.
+                let exported = (0..i)
+                    .rev()
+                    .map(&token)
+                    .take_while(|t| !matches!(*t, "}" | ";"))
+                    .any(|t| t == "macro_export");
+                if exported {
+                    found
+                        .exported_macros
+                        .push((token(i + 2).to_string(), current(&inline)));
                 }
             }
             "mod" if token(i + 2) == "{" => {
@@ -361,6 +379,8 @@ struct Crate {
     modules: BTreeSet<ModulePath>,
     /// Re-exports: module -> name -> path (relative to that module).
     reexports: BTreeMap<ModulePath, BTreeMap<String, Vec<String>>>,
+    /// Macros exported at the root (`crate::name!`) -> the module that defines them.
+    exported_macros: BTreeMap<String, ModulePath>,
 }
 
 impl Crate {
@@ -401,6 +421,11 @@ impl Crate {
             used += 1;
         }
         if let Some(item) = rest.get(used) {
+            if module.is_empty() {
+                if let Some(defined_in) = self.exported_macros.get(item) {
+                    return Some(defined_in.clone());
+                }
+            }
             let target = self
                 .reexports
                 .get(&module)
@@ -444,8 +469,10 @@ fn module_graph(sources: &[(ModulePath, String, String)]) -> Graph {
     let files: BTreeSet<ModulePath> = sources.iter().map(|(m, _, _)| m.clone()).collect();
     let mut modules = files.clone();
     let mut reexports: BTreeMap<ModulePath, BTreeMap<String, Vec<String>>> = BTreeMap::new();
+    let mut exported_macros = BTreeMap::new();
     for (_, _, found) in &read {
         modules.extend(found.inline_modules.iter().cloned());
+        exported_macros.extend(found.exported_macros.iter().cloned());
         for (module, name, path) in &found.reexports {
             reexports
                 .entry(module.clone())
@@ -457,6 +484,7 @@ fn module_graph(sources: &[(ModulePath, String, String)]) -> Graph {
         files,
         modules,
         reexports,
+        exported_macros,
     };
     let mut graph = Graph::new();
     for (module, shown, found) in &read {
@@ -705,6 +733,23 @@ fn inline_test_modules_and_child_folders_belong_to_their_node() {
     assert!(circles(&graph).is_empty(), "{graph:?}");
     assert!(graph["layer::user"].contains_key("layer::map"));
     assert!(!graph.contains_key("layer::map::part"));
+}
+
+#[test]
+fn an_exported_macro_leads_to_the_module_that_defines_it() {
+    let graph = synthetic(&[
+        ("lib.rs", "pub mod layer;"),
+        ("layer/mod.rs", "mod one;\nmod two;"),
+        (
+            "layer/one.rs",
+            "/// Doc.\n#[macro_export]\nmacro_rules! made { () => { $crate::__helper!() }; }\n\
+             #[doc(hidden)]\n#[macro_export]\nmacro_rules! __helper { () => {}; }",
+        ),
+        ("layer/two.rs", "crate::made!();"),
+    ]);
+    assert!(graph["layer::two"].contains_key("layer::one"), "{graph:?}");
+    assert!(graph["layer::one"].is_empty(), "{graph:?}");
+    assert!(!graph["layer::two"].contains_key("crate"), "{graph:?}");
 }
 
 #[test]
