@@ -3,12 +3,11 @@
 //! modes) and the scene's settings as sections. The settings table is what the
 //! environment's keyword arguments, its docs and the stub are made from.
 
-use super::error::EpisodeError;
 use super::maps::MapConfig;
 use super::probe::{check_sweep_rate, ActionMode, ProbeConfig};
 use crate::scene::SceneConfig;
 use crate::settings;
-use crate::settings::{Range, SettingError, Settings};
+use crate::settings::{Range, SettingError};
 
 settings! {
     /// Reward weights. Each term is reported on its own in the step info.
@@ -93,11 +92,5 @@ impl EpisodeConfig {
     pub fn map_bounds(&self) -> [[f64; 2]; 2] {
         let half_width = self.scene.cupboard.width / 2.0;
         [[-half_width, half_width], [0.0, self.scene.cupboard.depth]]
-    }
-
-    /// Checks every setting (the scene's included) against its range, then across
-    /// settings; the first bad one is reported by its key.
-    pub fn validate(&self) -> Result<(), EpisodeError> {
-        Ok(self.check_settings()?)
     }
 }

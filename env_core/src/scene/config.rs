@@ -9,9 +9,9 @@
 use std::f64::consts::PI;
 
 use super::camera_intrinsics::CameraIntrinsics;
-use super::error::SceneError;
+use super::footprint::JarShape;
 use crate::settings;
-use crate::settings::{Choice, Range, SettingError, Settings};
+use crate::settings::{Choice, Range, SettingError};
 
 /// Which shape the hidden target jar has.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -25,7 +25,7 @@ pub enum TargetShape {
 }
 
 impl Choice for TargetShape {
-    const NAMES: &'static [&'static str] = &["round", "square", "any"];
+    const NAMES: &'static [&'static str] = &[JarShape::NAMES[0], JarShape::NAMES[1], "any"];
     const ANNOTATION: &'static str = "Literal['round', 'square', 'any']";
     const EXPECTED: &'static str = "'round', 'square' or 'any'";
 
@@ -297,12 +297,4 @@ fn check_scene(c: &SceneConfig) -> Result<(), SettingError> {
         ));
     }
     Ok(())
-}
-
-impl SceneConfig {
-    /// Checks every setting's range, then the relations between settings; the first bad
-    /// one is reported by its key. Cost: O(settings).
-    pub fn validate(&self) -> Result<(), SceneError> {
-        Ok(self.check_settings()?)
-    }
 }

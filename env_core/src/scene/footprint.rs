@@ -20,11 +20,26 @@ pub enum JarShape {
 }
 
 impl JarShape {
+    /// The shapes' names, in the order of the enum's variants.
+    pub const NAMES: [&'static str; 2] = ["round", "square"];
+
     /// `"round"` or `"square"`.
     pub fn name(self) -> &'static str {
         match self {
-            Self::Round { .. } => "round",
-            Self::Square { .. } => "square",
+            Self::Round { .. } => Self::NAMES[0],
+            Self::Square { .. } => Self::NAMES[1],
+        }
+    }
+
+    /// The shape called `name` (one of [`JarShape::NAMES`]) with radius or half side
+    /// `half_width`; None for another name.
+    pub fn from_name(name: &str, half_width: f64) -> Option<Self> {
+        match name {
+            n if n == Self::NAMES[0] => Some(Self::Round { radius: half_width }),
+            n if n == Self::NAMES[1] => Some(Self::Square {
+                half_side: half_width,
+            }),
+            _ => None,
         }
     }
 
