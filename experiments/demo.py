@@ -7,7 +7,7 @@ f = 0 on each hit, f = +d a little in front of it along the ray, thinned, at the
 environment's default settings). A handful of contacts on the hidden sides (point + outward
 normal) then update the map with the environment's contact noise. The cupboard's size, the
 camera's place and the depth and touch noise are the core's defaults
-(``_core.EpisodeBatch.settings()``, read through ``experiments.maps.env_settings``); the
+(``_core.EpisodeConfig.settings()``, read through ``experiments.maps.env_settings``); the
 shelf, the ray fan, the grid and the seed are the demo's own. The demo prints the IoU of
 the map's interior (mean < 0) against the true jar footprints for both maps (the
 environment's ``info["iou"]``, ``_core.interior_iou``) and writes a figure of mean, standard

@@ -19,7 +19,7 @@ from tactile_search import Gpis, _core
 
 def env_settings() -> dict[str, Any]:
     """The environment's default episode settings, read from the core."""
-    return dict(_core.EpisodeBatch.resolve_settings())
+    return dict(_core.EpisodeConfig().as_dict())
 
 
 def start_map(

@@ -1,6 +1,6 @@
 """Writes the generated part of ``python/tactile_search/_core.pyi`` from the core itself.
 
-The settings of ``Scene`` and ``EpisodeBatch`` (key, type, default, range, doc) come from the
+The settings of ``Scene`` and ``EpisodeConfig`` (key, type, default, range, doc) come from the
 compiled module's settings tables and become the ``TypedDict``s ``SceneSettings`` and
 ``EpisodeSettings`` that the classes' ``**settings`` are typed with. The rest of the stub
 (method signatures, which pyo3 cannot describe with types) is kept as written, around the
@@ -53,10 +53,10 @@ def generated() -> str:
     scene = list(_core.Scene.settings())
     scene_keys = {s["key"] for s in scene}
     # The episode's table holds the scene's: its TypedDict extends the scene's.
-    episode = [s for s in _core.EpisodeBatch.settings() if s["key"] not in scene_keys]
+    episode = [s for s in _core.EpisodeConfig.settings() if s["key"] not in scene_keys]
     blocks = [
         typed_dict("SceneSettings", "TypedDict", "Scene", scene),
-        typed_dict("EpisodeSettings", "SceneSettings", "EpisodeBatch", episode),
+        typed_dict("EpisodeSettings", "SceneSettings", "EpisodeConfig", episode),
     ]
     return "\n".join([BEGIN, "", "\n\n".join(blocks), "", END])
 

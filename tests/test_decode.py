@@ -49,8 +49,8 @@ def test_gpis_map_decodes_as_the_hand_formula_and_within_a_step(episodes) -> Non
         np.testing.assert_array_equal(decoded["mean"], mean)
         np.testing.assert_array_equal(decoded["std"], std)
         assert decoded["mean"].dtype == np.float64 and decoded["mean"].shape == (40, 80)
-        true_mean = np.clip(state["mean"], -mean_scale, mean_scale)
-        true_std = np.clip(state["std"], 0.0, std_scale)
+        true_mean = np.clip(state["map"]["mean"], -mean_scale, mean_scale)
+        true_std = np.clip(state["map"]["std"], 0.0, std_scale)
         assert np.abs(decoded["mean"] - true_mean).max() <= 0.5 * mean_scale / 127 + 1e-12
         assert np.abs(decoded["std"] - true_std).max() <= 0.5 * std_scale / 255 + 1e-12
 
@@ -64,7 +64,7 @@ def test_occupancy_map_decodes_to_its_probability(episodes) -> None:
         np.testing.assert_array_equal(
             decoded["occupied"], pixels[MAP_CHANNELS["occupancy", "occupied"]] / 255.0
         )
-        truth = state["occupancy"].astype(np.float64)
+        truth = state["map"]["occupancy"].astype(np.float64)
         assert np.abs(decoded["occupied"] - truth).max() <= 0.5 / 255 + 1e-6
 
 
@@ -184,7 +184,7 @@ def test_decoders_round_trip_a_changed_config() -> None:
     for obs, state in zip(observations, states, strict=True):
         decoded = env.decode_map(obs["map"])
         assert decoded["mean"].shape == (36, 72)
-        true_mean = np.clip(state["mean"], -0.03, 0.03)
+        true_mean = np.clip(state["map"]["mean"], -0.03, 0.03)
         assert np.abs(decoded["mean"] - true_mean).max() <= 0.5 * 0.03 / 127 + 1e-12
         d = env.decode_proprio(obs["proprio"])
         assert abs(d["x"] - state["hand"][0]) < 1e-6 and abs(d["y"] - state["hand"][1]) < 1e-6

@@ -139,8 +139,8 @@ def test_square_footprint_and_support() -> None:
         ),
         (
             lambda: _core.depth_prior(np.zeros((3, 2)), [0, -0.2], BOUNDS, (4, 8), psi=1.0),
-            ValueError,
-            "prior_wall_clearance",
+            TypeError,
+            "unexpected keyword argument 'psi'",
         ),
         (
             lambda: _core.depth_prior(
@@ -199,11 +199,11 @@ def test_the_environment_and_the_experiments_start_from_the_same_prior(seed, ove
     env.close()
     scene = _core.Scene(seed, config=scene_config)
     bounds = tuple(map(tuple, state["bounds"]))
-    shape = state["mean"].shape
+    shape = state["map"]["mean"].shape
     gpis = start_map(scene.slice_points, scene.camera["position"][:2], bounds, shape, overrides)
     assert gpis.n_rows > 0
-    np.testing.assert_array_equal(gpis.mean, state["mean"])
-    np.testing.assert_array_equal(np.sqrt(gpis.variance), state["std"])
+    np.testing.assert_array_equal(gpis.mean, state["map"]["mean"])
+    np.testing.assert_array_equal(np.sqrt(gpis.variance), state["map"]["std"])
 
 
 def test_depth_prior_rows_follow_the_settings() -> None:

@@ -329,6 +329,11 @@ def check_vector_rollout(env: Any, seed: int, steps: int, rng: np.random.Generat
             assert_finite(key, value)
 
 
+def resolve_in_core(**settings: Any) -> dict[str, Any]:
+    """Every setting by key as the core checks and reads ``settings``."""
+    return _core.EpisodeConfig(**settings).as_dict()
+
+
 # --- the properties ---------------------------------------------------------------------
 
 
@@ -338,19 +343,19 @@ def test_any_settings_validate_alike_everywhere_or_name_the_setting(given_settin
     """Validation alone (cheap, so many examples, up to the ranges' far ends): the config
     class and the core agree; a valid set resolves to every key and round-trips."""
     config, error = call(CupboardSearchConfig, **given_settings)
-    resolved, core_error = call(_core.EpisodeBatch.resolve_settings, **given_settings)
+    resolved, core_error = call(resolve_in_core, **given_settings)
     if error is None or core_error is None:
         assert error is None and core_error is None, (error, core_error)
-    else:  # (an unknown key: TypeError from the dataclass, ValueError from the core)
+    else:  # (with several bad settings, each path may name a different one first)
         assert_names_the_setting(error, given_settings)
         assert_names_the_setting(core_error, given_settings)
         return
     assert sorted(resolved) == KEYS
-    assert _core.EpisodeBatch.resolve_settings(**resolved) == resolved
+    assert resolve_in_core(**resolved) == resolved
     assert CupboardSearchConfig(**resolved).settings_dict() == resolved
     # The config holds plain values (lists, arrays and numpy scalars read by the core), so
     # it is hashable and means what the core resolved.
-    assert _core.EpisodeBatch.resolve_settings(**config.settings_dict()) == resolved
+    assert resolve_in_core(**config.settings_dict()) == resolved
     assert hash(config) == hash(CupboardSearchConfig(**config.settings_dict()))
 
 
@@ -453,7 +458,7 @@ def test_one_setting_of_any_type_is_accepted_or_refused_naming_it(key: str, valu
     resolver refuse it alike, with the key in the message."""
     given_settings = {key: value}
     _, error = call(CupboardSearchConfig, **given_settings)
-    _, core_error = call(_core.EpisodeBatch.resolve_settings, **given_settings)
+    _, core_error = call(resolve_in_core, **given_settings)
     assert (error is None) == (core_error is None)
     if certainly_invalid(key, value):
         assert error is not None, f"{key}={value!r} was accepted"
@@ -488,7 +493,7 @@ def test_a_scene_length_beyond_f32_is_refused(key: str, value: float) -> None:
     assert value > high
     for function, args in [
         (_core.Scene, (0,)),
-        (_core.EpisodeBatch.resolve_settings, ()),
+        (resolve_in_core, ()),
         (CupboardSearchConfig, ()),
     ]:
         _, error = call(function, *args, **{key: value})

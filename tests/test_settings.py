@@ -16,7 +16,7 @@ import pytest
 from tactile_search import CupboardSearchEnv, CupboardSearchVectorEnv, _core
 from tactile_search.envs import CupboardSearchConfig
 
-EPISODE_SETTINGS = list(_core.EpisodeBatch.settings())
+EPISODE_SETTINGS = list(_core.EpisodeConfig.settings())
 SCENE_SETTINGS = list(_core.Scene.settings())
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -64,7 +64,7 @@ def test_the_time_limit_and_every_default_come_from_the_core() -> None:
     defaults = {s["key"]: s["default"] for s in EPISODE_SETTINGS}
     config = CupboardSearchConfig()
     assert config.settings_dict() == defaults
-    assert _core.EpisodeBatch.resolve_settings() == defaults
+    assert _core.EpisodeConfig().as_dict() == defaults
 
 
 @pytest.mark.parametrize("setting", EPISODE_SETTINGS, ids=lambda s: s["key"])
@@ -72,9 +72,9 @@ def test_every_setting_round_trips_through_the_env(setting: dict) -> None:
     key = setting["key"]
     env_config = CupboardSearchConfig(**{key: setting["default"]})
     assert getattr(env_config, key) == setting["default"]
-    batch = env_config.make_batch([0])
-    assert batch.config[key] == setting["default"]
-    assert _core.EpisodeBatch([0], config=batch.config).config == batch.config
+    batch = env_config.make_batch(1)
+    assert batch.config.as_dict()[key] == setting["default"]
+    assert _core.EpisodeBatch(batch.config, 1).config == batch.config
 
 
 @pytest.mark.parametrize("setting", EPISODE_SETTINGS, ids=lambda s: s["key"])

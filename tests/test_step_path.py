@@ -12,8 +12,15 @@ import pytest
 from tactile_search import CupboardSearchEnv, CupboardSearchVectorEnv, _core
 
 
+def started_batch(seeds: list[int], **settings: Any) -> _core.EpisodeBatch:
+    """A core batch of ``settings`` with episode ``i`` reset to ``seeds[i]``."""
+    batch = _core.EpisodeBatch(_core.EpisodeConfig(**settings), len(seeds))
+    batch.reset_many(list(enumerate(seeds)))
+    return batch
+
+
 def test_the_batch_hands_out_its_own_arrays_written_in_place() -> None:
-    batch = _core.EpisodeBatch([1, 2], map="gpis")
+    batch = started_batch([1, 2], map="gpis")
     first = batch.step(np.zeros((2, 3)))
     second = batch.step(np.full((2, 3), 0.5))
     for a, b in zip(first[:5], second[:5], strict=True):
@@ -51,14 +58,14 @@ def test_the_sb3_vec_env_keeps_the_previous_observation_intact() -> None:
 
 
 def test_reset_of_one_episode_rewrites_only_its_rows() -> None:
-    batch = _core.EpisodeBatch([1, 2, 3], map="gpis")
+    batch = started_batch([1, 2, 3], map="gpis")
     batch.step(np.full((3, 3), 0.5))
     maps, proprio = batch.observe()
     before = (maps.copy(), proprio.copy())
     batch.reset(1, 42)
     np.testing.assert_array_equal(maps[[0, 2]], before[0][[0, 2]])
     np.testing.assert_array_equal(proprio[[0, 2]], before[1][[0, 2]])
-    fresh = _core.EpisodeBatch([42], map="gpis")
+    fresh = started_batch([42], map="gpis")
     np.testing.assert_array_equal(maps[1], fresh.observe()[0][0])
     assert batch.info(1)["steps"] == 0 and batch.info(0)["steps"] == 1
 
@@ -89,7 +96,7 @@ def test_bad_vector_actions_raise_before_any_episode_moves(actions: object, mess
 
 
 def test_bad_resets_raise_type_errors_naming_what_came() -> None:
-    batch = _core.EpisodeBatch([1, 2], map="none")
+    batch = started_batch([1, 2], map="none")
     with pytest.raises(TypeError, match="resets must be a list of"):
         batch.step(np.zeros((2, 3)), resets=5)
     with pytest.raises(IndexError, match=r"episode index must be from 0 to 1, got 7"):

@@ -38,7 +38,7 @@ def test_the_default_time_limit_is_the_cores() -> None:
     assert (
         steps
         == info["steps"]
-        == _core.EpisodeBatch.resolve_settings()["max_steps"]
+        == _core.EpisodeConfig().as_dict()["max_steps"]
         == env.unwrapped.config.max_steps
     )
 
@@ -75,7 +75,7 @@ def test_the_made_envs_spec_declares_the_episodes_limit_and_adds_no_second_one(
     max_steps: int | None,
 ) -> None:
     settings = {} if max_steps is None else {"max_steps": max_steps}
-    expected = max_steps or _core.EpisodeBatch.resolve_settings()["max_steps"]
+    expected = max_steps or _core.EpisodeConfig().as_dict()["max_steps"]
     env = gym.make(ENV_ID, map="none", **settings)
     assert env.spec.max_episode_steps == env.unwrapped.spec.max_episode_steps == expected
     assert gym.spec(ENV_ID).max_episode_steps is None  # so make adds no TimeLimit

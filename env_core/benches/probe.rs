@@ -11,6 +11,7 @@ use std::time::{Duration, Instant};
 use criterion::{criterion_group, criterion_main, Criterion};
 use env_core::episode::ActionMode;
 use env_core::episode::{Episode, EpisodeConfig, MapMode};
+use env_core::settings::Checked;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -29,7 +30,7 @@ impl Prober {
         config.scene.physics.fast_free_motion = fast;
         let seed = 1_000_000;
         Self {
-            episode: Episode::new(config, seed).expect("episode starts"),
+            episode: Episode::started(Checked::new(config).unwrap(), seed).expect("episode starts"),
             rng: ChaCha8Rng::seed_from_u64(7),
             seed,
         }

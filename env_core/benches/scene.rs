@@ -13,6 +13,7 @@ use env_core::episode::{ActionMode, Episode, EpisodeConfig, MapMode};
 use env_core::scene::{
     Cupboard, DepthCamera, HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig,
 };
+use env_core::settings::Checked;
 
 /// A scene whose finger is pressed 8 mm into a round jar's side (deflected, in contact).
 fn pressed_scene() -> Scene {
@@ -27,7 +28,8 @@ fn pressed_scene() -> Scene {
     let mut config = SceneConfig::default();
     config.hand.start = [-0.034, 0.063, 0.0];
     let layout = Layout::lone_jar(jar);
-    let mut scene = Scene::from_layout(config, layout, 0).expect("scene builds");
+    let mut scene =
+        Scene::from_layout(&Checked::new(config).unwrap(), layout, 0).expect("scene builds");
     for _ in 0..7 {
         scene
             .step(HandCommand {
@@ -41,7 +43,8 @@ fn pressed_scene() -> Scene {
 }
 
 fn bench_physics(c: &mut Criterion) {
-    let mut scene = Scene::new(SceneConfig::default(), 1).expect("scene builds");
+    let mut scene =
+        Scene::new(&Checked::new(SceneConfig::default()).unwrap(), 1).expect("scene builds");
     let mut k = 0u64;
     c.bench_function("scene_step_free_motion", |b| {
         b.iter(|| {
@@ -90,7 +93,8 @@ fn bench_physics(c: &mut Criterion) {
 }
 
 fn bench_depth(c: &mut Criterion) {
-    let mut scene = Scene::new(SceneConfig::default(), 3).expect("scene builds");
+    let mut scene =
+        Scene::new(&Checked::new(SceneConfig::default()).unwrap(), 3).expect("scene builds");
     c.bench_function("depth_capture_160x120", |b| {
         b.iter(|| black_box(scene.capture()))
     });
@@ -111,7 +115,7 @@ fn bench_layout(c: &mut Criterion) {
     c.bench_function("scene_reset (layout + world + first look's slice)", |b| {
         b.iter(|| {
             seed += 1;
-            black_box(Scene::new(config.clone(), seed).expect("scene"))
+            black_box(Scene::new(&Checked::new(config.clone()).unwrap(), seed).expect("scene"))
         })
     });
 }
@@ -127,7 +131,8 @@ fn bench_episode_reset(c: &mut Criterion) {
         let mut config = EpisodeConfig::default();
         config.map.mode = mode;
         config.action_mode = ActionMode::Probe;
-        let mut episode = Episode::new(config, 0).expect("episode starts");
+        let mut episode =
+            Episode::started(Checked::new(config).unwrap(), 0).expect("episode starts");
         let mut seed = 1_000_000u64;
         c.bench_function(name, |b| {
             b.iter(|| {

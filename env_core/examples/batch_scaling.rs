@@ -16,6 +16,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use env_core::episode::{ActionMode, Command, EpisodeBatch, EpisodeConfig, MapMode, PROPRIO_LEN};
+use env_core::settings::Checked;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -37,7 +38,8 @@ impl Stepper {
         let seeds: Vec<u64> = (1_000_000..1_000_000 + EPISODES as u64).collect();
         let counts = config.probe.counts();
         let action_mode = config.action_mode;
-        let batch = EpisodeBatch::new(config, &seeds, Some(threads)).expect("batch starts");
+        let batch = EpisodeBatch::started(Checked::new(config).unwrap(), &seeds, Some(threads))
+            .expect("batch starts");
         let (maps, proprio) = (
             vec![0; EPISODES * batch.map_len()],
             vec![0.0; EPISODES * PROPRIO_LEN],

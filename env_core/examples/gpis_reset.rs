@@ -8,6 +8,7 @@
 //! holds after each reset, so two builds can be checked to do the same work.
 
 use env_core::episode::{ActionMode, Episode, EpisodeConfig, MapMode};
+use env_core::settings::Checked;
 
 fn main() {
     let resets: u64 = std::env::args()
@@ -17,7 +18,7 @@ fn main() {
     let mut config = EpisodeConfig::default();
     config.map.mode = MapMode::Gpis;
     config.action_mode = ActionMode::Probe;
-    let mut episode = Episode::new(config, 0).expect("episode starts");
+    let mut episode = Episode::started(Checked::new(config).unwrap(), 0).expect("episode starts");
     let mut rows = Vec::new();
     for seed in 1_000_001..=1_000_000 + resets {
         episode.reset(seed).expect("reset");

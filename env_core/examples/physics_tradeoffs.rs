@@ -12,6 +12,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use env_core::scene::{HandCommand, JarShape, JarSpec, Layout, Scene, SceneConfig};
+use env_core::settings::Checked;
 
 const ROUND: JarShape = JarShape::Round { radius: 0.025 };
 const SQUARE: JarShape = JarShape::Square { half_side: 0.024 };
@@ -41,7 +42,8 @@ fn beside(config: &SceneConfig, shape: JarShape, rigid: bool, gap: f64) -> Scene
     let x = jar.x - (jar.half_extent_x() + config.hand.finger_half_thickness + gap);
     let joint_offset = config.hand.wrist_half_extent + 0.002;
     config.hand.start = [x, jar.y - 0.07 - joint_offset, 0.0];
-    Scene::from_layout(config, Layout::lone_jar(jar), 0).expect("scene builds")
+    Scene::from_layout(&Checked::new(config).unwrap(), Layout::lone_jar(jar), 0)
+        .expect("scene builds")
 }
 
 fn median(mut values: Vec<f64>) -> f64 {
@@ -55,7 +57,8 @@ fn free_step_us(config: &SceneConfig) -> (f64, f64) {
     let mut times = Vec::new();
     let mut peak = 0.0f64;
     for seed in 0..20 {
-        let mut scene = Scene::new(config.clone(), seed).expect("scene builds");
+        let mut scene =
+            Scene::new(&Checked::new(config.clone()).unwrap(), seed).expect("scene builds");
         for k in 0..200 {
             let dx = if (k / 5) % 2 == 0 { 0.01 } else { -0.01 };
             let start = Instant::now();
@@ -88,7 +91,8 @@ fn contact_step_us(config: &SceneConfig) -> f64 {
 fn rest_drift(config: &SceneConfig) -> f64 {
     let mut worst = 0.0f64;
     for seed in 0..4 {
-        let mut scene = Scene::new(config.clone(), seed).expect("scene builds");
+        let mut scene =
+            Scene::new(&Checked::new(config.clone()).unwrap(), seed).expect("scene builds");
         scene.idle(1000);
         for state in scene.jar_states() {
             worst = worst.max(state.disturbance.displacement);

@@ -12,6 +12,7 @@
 //! summed reward, so two builds can be checked to do the same work.
 
 use env_core::episode::{ActionMode, Episode, EpisodeConfig, MapMode};
+use env_core::settings::Checked;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -29,7 +30,8 @@ fn main() {
         config.scene.physics.fast_free_motion = false;
     }
     let mut seed = 1_000_000;
-    let mut episode = Episode::new(config, seed).expect("episode starts");
+    let mut episode =
+        Episode::started(Checked::new(config).unwrap(), seed).expect("episode starts");
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     let (mut episodes, mut contacts, mut rows, mut reward) = (1u64, 0usize, 0usize, 0.0f64);
     let (mut commands, mut carried) = (0u64, 0u64);

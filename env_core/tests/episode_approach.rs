@@ -5,6 +5,7 @@ use env_core::episode::approach::ApproachField;
 use env_core::episode::{oracle_action, Episode, EpisodeConfig};
 use env_core::gpis::GridSpec;
 use env_core::scene::{Disturbance, JarShape, JarSpec, JarState};
+use env_core::settings::Checked;
 
 fn round_jar(x: f64, y: f64, radius: f64) -> JarState {
     JarState {
@@ -63,8 +64,9 @@ fn the_shaping_term_telescopes_and_is_off_by_default() {
     let mut shaped = EpisodeConfig::default();
     shaped.reward.approach = 1.0;
     for seed in 0..5 {
-        let mut episode = Episode::new(shaped.clone(), seed).unwrap();
-        let mut plain = Episode::new(EpisodeConfig::default(), seed).unwrap();
+        let mut episode = Episode::started(Checked::new(shaped.clone()).unwrap(), seed).unwrap();
+        let mut plain =
+            Episode::started(Checked::new(EpisodeConfig::default()).unwrap(), seed).unwrap();
         let start = episode.last_info().target_distance;
         assert!(start > 0.1, "seed {seed}: start distance {start}");
         let mut total = 0.0;

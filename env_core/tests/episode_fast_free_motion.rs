@@ -19,6 +19,7 @@ use common::observe;
 use env_core::episode::ActionMode;
 use env_core::episode::{Episode, EpisodeConfig, MapMode, StepInfo};
 use env_core::scene::HandPose;
+use env_core::settings::Checked;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -59,7 +60,8 @@ fn outcome(info: &StepInfo) -> (usize, usize, bool, bool, usize, bool, usize) {
 fn the_fast_path_is_deterministic() {
     for seed in [1_000_000u64, 1_000_001] {
         let run = || {
-            let mut episode = Episode::new(config(MapMode::Gpis, true), seed).unwrap();
+            let mut episode =
+                Episode::started(Checked::new(config(MapMode::Gpis, true)).unwrap(), seed).unwrap();
             let counts = episode.config().probe.counts();
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
             let mut trace = Vec::new();
@@ -88,8 +90,10 @@ fn probes_that_touch_nothing_report_the_same_with_and_without_the_fast_path() {
     let mut deflection_differs = false;
     for map in [MapMode::Gpis, MapMode::Occupancy] {
         for seed in 1_000_000..1_000_012u64 {
-            let mut fast = Episode::new(config(map, true), seed).unwrap();
-            let mut stepped = Episode::new(config(map, false), seed).unwrap();
+            let mut fast =
+                Episode::started(Checked::new(config(map, true)).unwrap(), seed).unwrap();
+            let mut stepped =
+                Episode::started(Checked::new(config(map, false)).unwrap(), seed).unwrap();
             let counts = fast.config().probe.counts();
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
             loop {

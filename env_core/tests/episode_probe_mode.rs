@@ -10,6 +10,7 @@ use env_core::episode::probe::{Phase, ProbeController};
 use env_core::episode::ActionMode;
 use env_core::episode::{Command, Episode, EpisodeBatch, EpisodeConfig, EpisodeError, MapMode};
 use env_core::episode::{StepInfo, PROPRIO_LEN};
+use env_core::settings::Checked;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -41,8 +42,10 @@ fn a_probe_is_exactly_its_controllers_wrist_motions_and_stops_by_its_rules() {
             let probe_config = config(map, ActionMode::Probe);
             let control = controller(&probe_config);
             let counts = probe_config.probe.counts();
-            let mut probing = Episode::new(probe_config, seed).unwrap();
-            let mut moving = Episode::new(config(map, ActionMode::Wrist), seed).unwrap();
+            let mut probing = Episode::started(Checked::new(probe_config).unwrap(), seed).unwrap();
+            let mut moving =
+                Episode::started(Checked::new(config(map, ActionMode::Wrist)).unwrap(), seed)
+                    .unwrap();
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
             loop {
                 let action = random_probe(&mut rng, counts);
@@ -141,7 +144,8 @@ fn a_probe_into_a_jar_stops_at_the_touch_and_a_deeper_one_does_not_push_it() {
     let [lanes, depths, sweeps] = probe_config.probe.counts();
     let mut stopped_early = 0;
     for seed in 0..6u64 {
-        let mut episode = Episode::new(probe_config.clone(), seed).unwrap();
+        let mut episode =
+            Episode::started(Checked::new(probe_config.clone()).unwrap(), seed).unwrap();
         // The lane nearest the jar closest to the opening, straight in to the deepest depth.
         let front = episode
             .scene()
@@ -175,8 +179,12 @@ fn a_probe_into_a_jar_stops_at_the_touch_and_a_deeper_one_does_not_push_it() {
 
 #[test]
 fn probe_indices_out_of_their_counts_move_no_episode_of_a_batch() {
-    let mut batch =
-        EpisodeBatch::new(config(MapMode::None, ActionMode::Probe), &[1, 2], Some(2)).unwrap();
+    let mut batch = EpisodeBatch::started(
+        Checked::new(config(MapMode::None, ActionMode::Probe)).unwrap(),
+        &[1, 2],
+        Some(2),
+    )
+    .unwrap();
     let mut proprio = vec![0f32; 2 * PROPRIO_LEN];
     for (bad, message) in [
         ([3.0, 29.0, 0.0], "action[1] must be an integer from 0 to 9"),
@@ -201,7 +209,7 @@ fn probe_indices_out_of_their_counts_move_no_episode_of_a_batch() {
 fn the_wrist_mode_is_the_default_and_a_step_is_one_motion() {
     let default = EpisodeConfig::default();
     assert_eq!(default.action_mode, ActionMode::Wrist);
-    let mut episode = Episode::new(default, 3).unwrap();
+    let mut episode = Episode::started(Checked::new(default).unwrap(), 3).unwrap();
     assert_eq!(episode.last_info().motions, 0);
     assert!(episode.last_motions().is_empty());
     // Fractional wrist actions stay valid: the probe indices' check is the probe mode's.

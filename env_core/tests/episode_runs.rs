@@ -7,6 +7,7 @@ use env_core::episode::{
     oracle_action, Command, Episode, EpisodeBatch, EpisodeConfig, EpisodeError, MapMode, StepInfo,
     PROPRIO_LEN,
 };
+use env_core::settings::Checked;
 use env_core::settings::SettingError;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -52,7 +53,7 @@ fn same_seed_and_actions_give_identical_observations_in_every_mode() {
     for mode in [MapMode::Gpis, MapMode::Occupancy, MapMode::None] {
         let actions = random_actions(1, 40);
         let run = || {
-            let mut episode = Episode::new(config(mode), 5).unwrap();
+            let mut episode = Episode::started(Checked::new(config(mode)).unwrap(), 5).unwrap();
             let mut trace = vec![observe(&episode)];
             for &a in &actions {
                 match episode.step(a) {
@@ -69,7 +70,8 @@ fn same_seed_and_actions_give_identical_observations_in_every_mode() {
 #[test]
 fn random_play_keeps_observations_and_rewards_finite() {
     for seed in 0..6 {
-        let mut episode = Episode::new(config(MapMode::Gpis), seed).unwrap();
+        let mut episode =
+            Episode::started(Checked::new(config(MapMode::Gpis)).unwrap(), seed).unwrap();
         for (k, action) in random_actions(seed, 60).into_iter().enumerate() {
             let info = episode.step(action.map(|v| 3.0 * v)).unwrap();
             assert_finite(&info);
@@ -92,7 +94,8 @@ fn the_oracle_touches_the_target_without_tipping_in_nearly_every_episode() {
     let mut successes = 0;
     let seeds: usize = 40;
     for seed in 0..seeds as u64 {
-        let mut episode = Episode::new(config(MapMode::Gpis), seed).unwrap();
+        let mut episode =
+            Episode::started(Checked::new(config(MapMode::Gpis)).unwrap(), seed).unwrap();
         for _ in 0..200 {
             let info = episode.step(oracle_action(&episode)).unwrap();
             assert_finite(&info);
@@ -111,7 +114,7 @@ fn the_oracle_touches_the_target_without_tipping_in_nearly_every_episode() {
 
 #[test]
 fn touch_adds_rows_to_the_map_and_the_map_tracks_the_jars() {
-    let mut episode = Episode::new(config(MapMode::Gpis), 3).unwrap();
+    let mut episode = Episode::started(Checked::new(config(MapMode::Gpis)).unwrap(), 3).unwrap();
     let prior_rows = episode.last_info().gpis_rows;
     let prior_iou = episode.last_info().iou;
     assert!(prior_rows > 0);
@@ -138,9 +141,11 @@ fn the_batch_equals_single_episodes_whatever_the_thread_count() {
         for threads in [1, 2] {
             let mut singles: Vec<Episode> = seeds
                 .iter()
-                .map(|&s| Episode::new(config(mode), s).unwrap())
+                .map(|&s| Episode::started(Checked::new(config(mode)).unwrap(), s).unwrap())
                 .collect();
-            let mut batch = EpisodeBatch::new(config(mode), &seeds, Some(threads)).unwrap();
+            let mut batch =
+                EpisodeBatch::started(Checked::new(config(mode)).unwrap(), &seeds, Some(threads))
+                    .unwrap();
             let map_len = singles[0].map_len();
             let mut maps = vec![0u8; seeds.len() * map_len];
             let mut proprio = vec![0f32; seeds.len() * PROPRIO_LEN];
@@ -175,7 +180,12 @@ fn the_batch_equals_single_episodes_whatever_the_thread_count() {
 #[test]
 fn a_batch_leaves_held_episodes_untouched_and_resets_only_those_it_is_told_to() {
     let seeds = [4, 5, 6];
-    let mut batch = EpisodeBatch::new(config(MapMode::Gpis), &seeds, Some(2)).unwrap();
+    let mut batch = EpisodeBatch::started(
+        Checked::new(config(MapMode::Gpis)).unwrap(),
+        &seeds,
+        Some(2),
+    )
+    .unwrap();
     let map_len = batch.map_len();
     let mut maps = vec![0u8; 3 * map_len];
     let mut proprio = vec![0f32; 3 * PROPRIO_LEN];
@@ -190,7 +200,7 @@ fn a_batch_leaves_held_episodes_untouched_and_resets_only_those_it_is_told_to() 
     assert_eq!(batch.episodes()[0].last_info().steps, 1);
     assert_eq!(batch.episodes()[1].last_info().steps, 0);
     assert_eq!(maps[map_len..2 * map_len], held[..]);
-    let fresh = Episode::new(config(MapMode::Gpis), 9).unwrap();
+    let fresh = Episode::started(Checked::new(config(MapMode::Gpis)).unwrap(), 9).unwrap();
     let (map, own) = observe(&fresh);
     assert_eq!(map, maps[2 * map_len..]);
     assert_eq!(own, proprio[2 * PROPRIO_LEN..]);
@@ -198,7 +208,12 @@ fn a_batch_leaves_held_episodes_untouched_and_resets_only_those_it_is_told_to() 
 
 #[test]
 fn a_non_finite_action_in_a_batch_moves_no_episode() {
-    let mut batch = EpisodeBatch::new(config(MapMode::None), &[1, 2], Some(2)).unwrap();
+    let mut batch = EpisodeBatch::started(
+        Checked::new(config(MapMode::None)).unwrap(),
+        &[1, 2],
+        Some(2),
+    )
+    .unwrap();
     let mut proprio = vec![0f32; 2 * PROPRIO_LEN];
     let commands = [
         Command::Step([0.5, 0.5, 0.0]),
@@ -219,7 +234,7 @@ fn a_non_finite_action_in_a_batch_moves_no_episode() {
 fn an_episode_truncates_when_its_steps_reach_max_steps() {
     let mut short = config(MapMode::None);
     short.max_steps = 4;
-    let mut episode = Episode::new(short, 2).unwrap();
+    let mut episode = Episode::started(Checked::new(short).unwrap(), 2).unwrap();
     let mut flags = Vec::new();
     for _ in 0..6 {
         let info = episode.step([0.0; 3]).unwrap();
@@ -231,8 +246,8 @@ fn an_episode_truncates_when_its_steps_reach_max_steps() {
 }
 
 #[test]
-fn bad_actions_and_configs_are_refused() {
-    let mut episode = Episode::new(config(MapMode::Gpis), 0).unwrap();
+fn bad_actions_and_configs_are_refused_and_a_config_is_checked_when_made() {
+    let mut episode = Episode::started(Checked::new(config(MapMode::Gpis)).unwrap(), 0).unwrap();
     assert!(matches!(
         episode.step([0.0, f64::NAN, 0.0]),
         Err(EpisodeError::NonFiniteAction { index: 1, .. })
@@ -240,33 +255,73 @@ fn bad_actions_and_configs_are_refused() {
     let mut bad = config(MapMode::Gpis);
     bad.map.grid_shape = (40, 60);
     assert!(matches!(
-        Episode::new(bad, 0),
-        Err(EpisodeError::Setting(SettingError::OutOfRange {
+        Checked::new(bad),
+        Err(SettingError::OutOfRange {
             key: "grid_shape",
             ..
-        }))
+        })
     ));
     let mut small = config(MapMode::Gpis);
     small.map.grid_shape = (20, 40);
     assert!(matches!(
-        Episode::new(small, 0),
-        Err(EpisodeError::Setting(SettingError::OutOfRange {
+        Checked::new(small),
+        Err(SettingError::OutOfRange {
             key: "grid_shape",
             ..
-        }))
+        })
     ));
     let mut negative = config(MapMode::Gpis);
     negative.reward.step_cost = -1.0;
     assert!(matches!(
-        Episode::new(negative, 0),
-        Err(EpisodeError::Setting(SettingError::OutOfRange {
+        Checked::new(negative),
+        Err(SettingError::OutOfRange {
             key: "reward_step_cost",
             ..
-        }))
+        })
     ));
     let mut map = vec![0u8; 3];
     assert!(matches!(
         episode.write_map(&mut map),
         Err(EpisodeError::BufferLength { .. })
     ));
+}
+
+#[test]
+fn an_episode_starts_at_its_first_reset_and_refuses_steps_before() {
+    let checked = Checked::new(config(MapMode::Gpis)).unwrap();
+    let mut episode = Episode::new(checked.clone()).unwrap();
+    assert!(!episode.is_started());
+    assert!(matches!(
+        episode.step([0.0; 3]),
+        Err(EpisodeError::NotReset)
+    ));
+    let mut map = vec![1u8; episode.map_len()];
+    let mut proprio = vec![1f32; PROPRIO_LEN];
+    episode.write_map(&mut map).unwrap();
+    episode.write_proprio(&mut proprio).unwrap();
+    assert!(map.iter().all(|&v| v == 0) && proprio.iter().all(|&v| v == 0.0));
+    episode.reset(3).unwrap();
+    let started = Episode::started(checked, 3).unwrap();
+    assert_eq!(observe(&episode), observe(&started));
+    episode.step([0.5, 0.5, 0.0]).unwrap();
+}
+
+#[test]
+fn a_new_batch_starts_no_episode() {
+    let checked = Checked::new(config(MapMode::None)).unwrap();
+    let mut batch = EpisodeBatch::new(checked, 2, Some(1)).unwrap();
+    assert!(batch.episodes().iter().all(|e| !e.is_started()));
+    let mut proprio = vec![0f32; 2 * PROPRIO_LEN];
+    let error = batch
+        .run(
+            &[Command::Step([0.0; 3]), Command::Hold],
+            &mut [],
+            &mut proprio,
+        )
+        .unwrap_err();
+    assert!(error.to_string().contains("episode 0"), "{error}");
+    batch
+        .run(&[Command::Reset(1), Command::Hold], &mut [], &mut proprio)
+        .unwrap();
+    assert!(batch.episodes()[0].is_started() && !batch.episodes()[1].is_started());
 }

@@ -2,6 +2,7 @@
 //! map (GPIS value rows, occupancy free cells); off (v0), the map does not change.
 
 use env_core::episode::{Episode, EpisodeConfig, MapMode};
+use env_core::settings::Checked;
 
 fn config(mode: MapMode, swept: Option<f64>) -> EpisodeConfig {
     let mut config = EpisodeConfig::default();
@@ -54,8 +55,13 @@ fn cell_of(episode: &Episode, p: [f64; 2]) -> usize {
 #[test]
 fn a_clear_pass_of_the_finger_lowers_the_gpis_variance_where_it_went() {
     for seed in 0..3u64 {
-        let mut with = Episode::new(config(MapMode::Gpis, Some(0.01)), seed).unwrap();
-        let mut without = Episode::new(config(MapMode::Gpis, None), seed).unwrap();
+        let mut with = Episode::started(
+            Checked::new(config(MapMode::Gpis, Some(0.01))).unwrap(),
+            seed,
+        )
+        .unwrap();
+        let mut without =
+            Episode::started(Checked::new(config(MapMode::Gpis, None)).unwrap(), seed).unwrap();
         let lane = clear_lane(&with);
         let added = go_in(&mut with, lane, 16);
         assert_eq!(
@@ -83,8 +89,13 @@ fn a_clear_pass_of_the_finger_lowers_the_gpis_variance_where_it_went() {
 
 #[test]
 fn a_clear_pass_marks_the_occupancy_cells_free() {
-    let mut with = Episode::new(config(MapMode::Occupancy, Some(0.01)), 1).unwrap();
-    let mut without = Episode::new(config(MapMode::Occupancy, None), 1).unwrap();
+    let mut with = Episode::started(
+        Checked::new(config(MapMode::Occupancy, Some(0.01))).unwrap(),
+        1,
+    )
+    .unwrap();
+    let mut without =
+        Episode::started(Checked::new(config(MapMode::Occupancy, None)).unwrap(), 1).unwrap();
     let lane = clear_lane(&with);
     go_in(&mut with, lane, 16);
     go_in(&mut without, lane, 16);
@@ -98,7 +109,8 @@ fn a_clear_pass_marks_the_occupancy_cells_free() {
 
 #[test]
 fn going_over_the_same_free_space_again_adds_few_rows() {
-    let mut episode = Episode::new(config(MapMode::Gpis, Some(0.01)), 2).unwrap();
+    let mut episode =
+        Episode::started(Checked::new(config(MapMode::Gpis, Some(0.01))).unwrap(), 2).unwrap();
     let lane = clear_lane(&episode);
     let first = go_in(&mut episode, lane, 12);
     assert!(first > 0);

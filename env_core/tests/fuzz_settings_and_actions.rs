@@ -18,6 +18,7 @@ use env_core::episode::ActionMode;
 use env_core::episode::{
     Episode, EpisodeConfig, EpisodeError, MapMode, PROPRIO_LEN, STEP_INFO_FIELDS,
 };
+use env_core::settings::Checked;
 use env_core::settings::{Limit, SettingError, SettingValue, Settings, MAX_SCENE_LENGTH};
 use proptest::prelude::*;
 
@@ -190,7 +191,7 @@ proptest! {
         if config.set_value(setting.key, &value).is_err() || config.check_settings().is_err() {
             return Ok(()); // refused with an error: the first property checks its message
         }
-        let Ok(mut episode) = Episode::new(config, seed) else {
+        let Ok(mut episode) = Episode::started(Checked::new(config).unwrap(), seed) else {
             return Ok(()); // e.g. no layout fits: an error, not a panic
         };
         assert_outputs_finite(&episode)?;
@@ -216,7 +217,7 @@ proptest! {
     ) {
         let mut config = EpisodeConfig::default();
         config.map.mode = mode;
-        let mut episode = Episode::new(config, seed).expect("default settings build");
+        let mut episode = Episode::started(Checked::new(config).unwrap(), seed).expect("default settings build");
         for action in actions {
             let before = *episode.last_info();
             match episode.step(action) {
@@ -249,7 +250,7 @@ fn huge_depth_noise_builds_and_steps_in_every_map_mode() {
         config
             .set_value("depth_noise_std", &SettingValue::Float(MAX_SCENE_LENGTH))
             .expect("in range");
-        let mut episode = Episode::new(config, 0).expect("builds");
+        let mut episode = Episode::started(Checked::new(config).unwrap(), 0).expect("builds");
         episode.step([0.5, 0.5, 0.0]).expect("steps");
         assert_outputs_finite(&episode).expect("finite");
     }
@@ -268,7 +269,7 @@ proptest! {
         config.map.mode = mode;
         config.action_mode = ActionMode::Probe;
         let counts = config.probe.counts();
-        let mut episode = Episode::new(config, seed).expect("default settings build");
+        let mut episode = Episode::started(Checked::new(config).unwrap(), seed).expect("default settings build");
         for action in actions {
             let before = *episode.last_info();
             let valid = action

@@ -4,10 +4,16 @@
 use env_core::scene::{
     JarShape, JarSpec, Layout, Scene, SceneConfig, SceneError, TargetShape, Visibility,
 };
+use env_core::settings::Checked;
 use env_core::settings::{Choice, SettingError, SettingValue, Settings};
 
+/// What refuses `config`: its check, else the scene built from it.
 fn error_of(config: SceneConfig) -> SceneError {
-    match Scene::new(config, 0) {
+    let checked = match Checked::new(config) {
+        Ok(checked) => checked,
+        Err(e) => return SceneError::from(e),
+    };
+    match Scene::new(&checked, 0) {
         Ok(_) => panic!("accepted a bad config"),
         Err(e) => e,
     }
@@ -103,7 +109,7 @@ fn bad_explicit_layouts_are_refused() {
         (layout(vec![], 0), "1 to 7 jars"),
         (layout(vec![jar(f64::NAN, 0.1)], 0), "non-finite"),
     ] {
-        match Scene::from_layout(SceneConfig::default(), bad, 0) {
+        match Scene::from_layout(&Checked::new(SceneConfig::default()).unwrap(), bad, 0) {
             Ok(_) => panic!("accepted a bad layout ({needle})"),
             Err(e) => assert!(e.to_string().contains(needle), "{e}"),
         }

@@ -3,6 +3,7 @@
 //! target with the finger without moving any other jar by 2 mm or tipping it.
 
 use env_core::scene::{HandCommand, Scene, SceneConfig};
+use env_core::settings::Checked;
 
 /// Steps the wrist towards `(x, y)` in moves of at most 1 cm; returns false if blocked.
 fn go_to(scene: &mut Scene, x: f64, y: f64) -> bool {
@@ -31,7 +32,8 @@ fn a_scripted_reach_through_the_corridor_touches_the_target_without_disturbing_o
     let config = SceneConfig::default();
     let reach = config.hand.wrist_half_extent + 0.002 + config.hand.finger_length;
     for seed in 0..60 {
-        let mut scene = Scene::new(config.clone(), seed).expect("scene builds");
+        let mut scene =
+            Scene::new(&Checked::new(config.clone()).unwrap(), seed).expect("scene builds");
         let layout = scene.layout().clone();
         let corridor = layout.corridor.expect("generated layouts have a corridor");
         let target = layout.jars[layout.target];

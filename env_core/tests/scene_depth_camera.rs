@@ -6,11 +6,13 @@ mod common;
 
 use common::{box_sdf, JarGeom};
 use env_core::scene::{Scene, SceneConfig, LABEL_CUPBOARD, LABEL_NONE};
+use env_core::settings::Checked;
 
 #[test]
 fn camera_points_lie_on_true_surfaces_within_1_mm_before_noise() {
     for seed in 0..6 {
-        let scene = Scene::new(SceneConfig::default(), seed).expect("scene builds");
+        let scene =
+            Scene::new(&Checked::new(SceneConfig::default()).unwrap(), seed).expect("scene builds");
         let jars: Vec<JarGeom> = scene.jar_states().iter().map(JarGeom::of).collect();
         let walls = scene.cupboard().walls();
         let look = scene.first_look();
@@ -57,7 +59,7 @@ fn depth_image_has_the_configured_shape_and_nan_exactly_where_nothing_was_hit() 
     config.camera.image_width = 64;
     config.camera.image_height = 48;
     config.camera.hfov = 2.4;
-    let scene = Scene::new(config, 5).expect("scene builds");
+    let scene = Scene::new(&Checked::new(config).unwrap(), 5).expect("scene builds");
     let image = &scene.first_look().image;
     assert_eq!((image.width, image.height), (64, 48));
     assert_eq!(image.depth.len(), 64 * 48);
@@ -75,7 +77,7 @@ fn depth_image_has_the_configured_shape_and_nan_exactly_where_nothing_was_hit() 
 fn slice_is_the_band_at_the_map_height_thinned_evenly_and_deterministically() {
     let mut config = SceneConfig::default();
     config.camera.max_slice_points = 1_000_000;
-    let full = Scene::new(config.clone(), 11).expect("scene builds");
+    let full = Scene::new(&Checked::new(config.clone()).unwrap(), 11).expect("scene builds");
     let look = full.first_look();
     let h = config.slice_height;
     let band: Vec<[f64; 2]> = look
@@ -88,8 +90,8 @@ fn slice_is_the_band_at_the_map_height_thinned_evenly_and_deterministically() {
     assert_eq!(look.slice_clean, band);
 
     config.camera.max_slice_points = 40;
-    let thin = Scene::new(config.clone(), 11).expect("scene builds");
-    let again = Scene::new(config, 11).expect("scene builds");
+    let thin = Scene::new(&Checked::new(config.clone()).unwrap(), 11).expect("scene builds");
+    let again = Scene::new(&Checked::new(config).unwrap(), 11).expect("scene builds");
     let thinned = &thin.first_look().slice_clean;
     assert_eq!(thinned.len(), 40);
     assert!(thinned.iter().all(|p| band.contains(p)));
@@ -106,7 +108,7 @@ fn slice_noise_has_the_configured_standard_deviation() {
     config.camera.slice_band = 0.04;
     let mut errors = Vec::new();
     for seed in 0..3 {
-        let scene = Scene::new(config.clone(), seed).expect("scene builds");
+        let scene = Scene::new(&Checked::new(config.clone()).unwrap(), seed).expect("scene builds");
         let look = scene.first_look();
         for (noisy, clean) in look.slice.iter().zip(&look.slice_clean) {
             errors.push(noisy[0] - clean[0]);
@@ -125,7 +127,7 @@ fn slice_noise_has_the_configured_standard_deviation() {
     );
 
     config.camera.noise_std = 0.0;
-    let clean = Scene::new(config, 0).expect("scene builds");
+    let clean = Scene::new(&Checked::new(config).unwrap(), 0).expect("scene builds");
     assert_eq!(clean.first_look().slice, clean.first_look().slice_clean);
 }
 
@@ -133,7 +135,8 @@ fn slice_noise_has_the_configured_standard_deviation() {
 fn the_hand_never_occludes_the_camera() {
     // The camera's look is taken before the hand reaches in; a later capture with the hand
     // deep in the cupboard still sees only walls and jars.
-    let mut scene = Scene::new(SceneConfig::default(), 2).expect("scene builds");
+    let mut scene =
+        Scene::new(&Checked::new(SceneConfig::default()).unwrap(), 2).expect("scene builds");
     let corridor = scene.layout().corridor.expect("corridor");
     let x = 0.5 * (corridor.x[0] + corridor.x[1]);
     for k in 0..70 {
@@ -188,7 +191,8 @@ fn the_reset_slice_from_the_band_rows_equals_the_whole_first_looks_slice() {
         ("noiseless", noiseless),
     ] {
         for seed in 0..8 {
-            let scene = Scene::new(config.clone(), seed).expect("scene builds");
+            let scene =
+                Scene::new(&Checked::new(config.clone()).unwrap(), seed).expect("scene builds");
             let look = scene.first_look();
             assert!(!look.slice.is_empty(), "{name} seed {seed}: empty slice");
             assert_eq!(
@@ -205,7 +209,8 @@ fn a_look_at_reset_sees_what_the_first_look_saw() {
     // capture() renders the world's current poses; first_look() the layout at rest. Before
     // anything moves the two images are the same, pixel for pixel.
     for seed in 0..4 {
-        let mut scene = Scene::new(SceneConfig::default(), seed).expect("scene builds");
+        let mut scene =
+            Scene::new(&Checked::new(SceneConfig::default()).unwrap(), seed).expect("scene builds");
         let first = scene.first_look().image;
         let now = scene.capture().image;
         assert_eq!(first.labels, now.labels, "seed {seed}");

@@ -2,9 +2,11 @@
 //! pose and velocity, the finger's deflection and the (noisy) touch readings, step by step.
 
 use env_core::scene::{HandCommand, Scene, SceneConfig};
+use env_core::settings::Checked;
 
 fn run(seed: u64) -> (Scene, Vec<Vec<u64>>) {
-    let mut scene = Scene::new(SceneConfig::default(), seed).expect("scene builds");
+    let mut scene =
+        Scene::new(&Checked::new(SceneConfig::default()).unwrap(), seed).expect("scene builds");
     let corridor = scene.layout().corridor.expect("corridor");
     let x = 0.5 * (corridor.x[0] + corridor.x[1]);
     let mut states = Vec::new();

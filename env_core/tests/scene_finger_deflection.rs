@@ -6,11 +6,12 @@
 mod common;
 
 use env_core::scene::{HandCommand, JarShape, Layout, Scene, SceneConfig};
+use env_core::settings::Checked;
 
 fn one_jar(config: SceneConfig) -> Scene {
     let jar = common::test_jar(JarShape::Round { radius: 0.025 }, 0.0, 0.15, 0.0);
     let layout = Layout::lone_jar(jar);
-    Scene::from_layout(config, layout, 0).expect("scene builds")
+    Scene::from_layout(&Checked::new(config).unwrap(), layout, 0).expect("scene builds")
 }
 
 #[test]

@@ -7,12 +7,14 @@ mod common;
 use env_core::scene::{
     Blocker, HandCommand, JarShape, Layout, Scene, SceneConfig, SceneError, Wall,
 };
+use env_core::settings::Checked;
 
 /// One jar tucked in the back-left corner, out of the way.
 fn open_scene() -> Scene {
     let jar = common::test_jar(JarShape::Round { radius: 0.025 }, -0.26, 0.26, 0.0);
     let layout = Layout::lone_jar(jar);
-    Scene::from_layout(SceneConfig::default(), layout, 0).expect("scene builds")
+    Scene::from_layout(&Checked::new(SceneConfig::default()).unwrap(), layout, 0)
+        .expect("scene builds")
 }
 
 fn push(scene: &mut Scene, command: HandCommand, steps: usize) -> Option<Blocker> {

@@ -3,6 +3,7 @@
 //! default) or are simulated from the first step.
 
 use env_core::scene::{Scene, SceneConfig};
+use env_core::settings::Checked;
 
 #[test]
 fn jars_left_alone_move_less_than_a_tenth_of_a_millimetre_in_1000_steps() {
@@ -17,7 +18,7 @@ fn jars_left_alone_move_less_than_a_tenth_of_a_millimetre_in_1000_steps() {
         let mut config = SceneConfig::default();
         config.layout.jar_count = jars;
         config.physics.jars_start_asleep = asleep;
-        let mut scene = Scene::new(config, seed).expect("scene builds");
+        let mut scene = Scene::new(&Checked::new(config).unwrap(), seed).expect("scene builds");
         let before = scene.jar_states();
         scene.idle(1000);
         let after = scene.jar_states();

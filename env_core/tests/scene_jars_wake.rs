@@ -7,13 +7,14 @@
 mod common;
 
 use env_core::scene::{HandCommand, JarShape, Layout, Scene, SceneConfig};
+use env_core::settings::Checked;
 
 #[test]
 fn resting_jars_are_asleep_from_the_first_step_and_only_then() {
     for asleep in [true, false] {
         let mut config = SceneConfig::default();
         config.physics.jars_start_asleep = asleep;
-        let mut scene = Scene::new(config, 7).expect("scene builds");
+        let mut scene = Scene::new(&Checked::new(config).unwrap(), 7).expect("scene builds");
         // The hand moves in front of the opening, touching nothing.
         for dx in [0.01, -0.01, -0.01, 0.01] {
             scene
@@ -43,7 +44,8 @@ fn shove_into_neighbour(asleep: bool) -> (f64, f64) {
         jars: vec![pushed, neighbour],
         ..Layout::lone_jar(pushed)
     };
-    let mut scene = Scene::from_layout(config, layout, 0).expect("scene builds");
+    let mut scene =
+        Scene::from_layout(&Checked::new(config).unwrap(), layout, 0).expect("scene builds");
     for _ in 0..25 {
         scene
             .step(HandCommand {

@@ -7,6 +7,7 @@ mod common;
 
 use common::JarGeom;
 use env_core::scene::{JarShape, Scene, SceneConfig};
+use env_core::settings::Checked;
 
 #[test]
 fn over_200_seeds_the_camera_sees_at_most_the_bound_of_the_target() {
@@ -17,7 +18,7 @@ fn over_200_seeds_the_camera_sees_at_most_the_bound_of_the_target() {
     let mut shapes = [0usize; 2];
     let mut counts = [0usize; 8];
     for seed in 0..200 {
-        let scene = Scene::new(config.clone(), seed).expect("scene builds");
+        let scene = Scene::new(&Checked::new(config.clone()).unwrap(), seed).expect("scene builds");
         let states = scene.jar_states();
         let target = scene.target();
         let geom = JarGeom::of(&states[target]);

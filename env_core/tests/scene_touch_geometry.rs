@@ -7,6 +7,7 @@ mod common;
 
 use common::{angle_deg, JarGeom};
 use env_core::scene::{Contact, HandCommand, JarShape, Layout, Scene, SceneConfig};
+use env_core::settings::Checked;
 
 /// Presses the finger's +x side onto a jar centred at (0, 0.15) from a gap of 6 mm, then
 /// slides along it and back; returns the readings of every step with the jar's pose at that
@@ -18,7 +19,8 @@ fn press_and_slide(shape: JarShape, yaw: f64) -> (Vec<(Vec<Contact>, JarGeom)>, 
     config.touch.normal_noise_std = 0.0;
     common::start_beside(&mut config, &jar, 0.006);
     let layout = Layout::lone_jar(jar);
-    let mut scene = Scene::from_layout(config, layout, 0).expect("scene builds");
+    let mut scene =
+        Scene::from_layout(&Checked::new(config).unwrap(), layout, 0).expect("scene builds");
     let mut readings = Vec::new();
     let script = (0..10)
         .map(|_| HandCommand {

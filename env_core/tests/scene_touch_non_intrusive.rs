@@ -5,6 +5,7 @@
 mod common;
 
 use env_core::scene::{HandCommand, JarShape, Layout, Scene, SceneConfig};
+use env_core::settings::Checked;
 
 /// Runs the sweep; returns the jar's largest displacement, its largest tilt and the finger's
 /// largest deflection, and the number of steps with a reading.
@@ -14,7 +15,8 @@ fn sweep(shape: JarShape, rigid: bool) -> (f64, f64, f64, usize) {
     config.hand.rigid_finger = rigid;
     common::start_beside(&mut config, &jar, 0.006);
     let layout = Layout::lone_jar(jar);
-    let mut scene = Scene::from_layout(config, layout, 0).expect("scene builds");
+    let mut scene =
+        Scene::from_layout(&Checked::new(config).unwrap(), layout, 0).expect("scene builds");
     let script = (0..9)
         .map(|_| HandCommand {
             dx: 0.002,

@@ -34,9 +34,10 @@ fn with_numbers(value: &SettingValue, number: f64) -> SettingValue {
     }
 }
 
-fn every_setting_round_trips<C: Settings + std::fmt::Debug + PartialEq>() {
+fn every_setting_round_trips<C: Settings + Clone + std::fmt::Debug + PartialEq>() {
     let defaults = C::default();
     let rebuilt = C::from_pairs(defaults.to_pairs()).expect("the defaults are valid");
+    let rebuilt = (*rebuilt).clone();
     assert_eq!(rebuilt, defaults);
     for setting in C::table() {
         let mut config = C::default();

@@ -208,7 +208,7 @@ class SceneSettings(TypedDict, total=False):
     """
 
 class EpisodeSettings(SceneSettings, total=False):
-    """Every setting of ``EpisodeBatch`` by key (``EpisodeBatch.settings()``)."""
+    """Every setting of ``EpisodeConfig`` by key (``EpisodeConfig.settings()``)."""
 
     max_steps: int
     """Episode length: the time limit (truncation) and the scale of the time-left entry of the
@@ -461,26 +461,34 @@ class Scene:
     @property
     def state_vector(self) -> NDArray[np.float64]: ...
 
-class EpisodeBatch:
-    """N mechanical-search episodes stepped in parallel; prefer ``CupboardSearchEnv`` and
-    ``CupboardSearchVectorEnv``, which validate input."""
+class EpisodeConfig:
+    """Every setting of an episode (the scene's included), checked once when made:
+    ``TypeError`` for a key that is no setting or a wrong type, ``ValueError`` for a value
+    out of range, each naming the key. Equal configs compare and hash equal."""
 
     def __init__(
         self,
-        seeds: list[int],
-        threads: int | None = None,
-        config: EpisodeSettings | None = None,
-        **settings: Unpack[EpisodeSettings],
+        settings: EpisodeSettings | None = None,
+        *,
+        caller: str | None = None,
+        **kwargs: Unpack[EpisodeSettings],
     ) -> None: ...
     @staticmethod
     def settings() -> list[dict[str, Any]]:
         """The settings table (the scene's included): key, type, default, range, choices, doc."""
-    @staticmethod
-    def resolve_settings(**settings: Unpack[EpisodeSettings]) -> EpisodeSettings:
-        """Checks the settings and returns every setting by key, defaults filled in."""
+    def as_dict(self) -> EpisodeSettings:
+        """Every setting by key."""
+    def __hash__(self) -> int: ...
+
+class EpisodeBatch:
+    """N mechanical-search episodes stepped in parallel; prefer ``CupboardSearchEnv`` and
+    ``CupboardSearchVectorEnv``, which validate input."""
+
+    def __init__(self, config: EpisodeConfig, num_envs: int, threads: int | None = None) -> None:
+        """``num_envs`` episodes of ``config``, none started (a reset starts each)."""
     @property
-    def config(self) -> EpisodeSettings:
-        """Every setting of this batch by key."""
+    def config(self) -> EpisodeConfig:
+        """The config the batch was made with."""
     def reset(self, index: int, seed: int) -> None: ...
     def reset_many(self, resets: list[tuple[int, int]]) -> None: ...
     def observe(self) -> tuple[NDArray[np.uint8] | None, NDArray[np.float32]]: ...
@@ -498,6 +506,11 @@ class EpisodeBatch:
         NDArray[np.bool_],
         dict[str, NDArray[Any]],
     ]: ...
+    def step_autoreset(
+        self, actions: Any, seeds: list[int]
+    ) -> tuple[
+        dict[str, NDArray[Any]], NDArray[np.float32], NDArray[np.bool_], list[dict[str, Any]]
+    ]: ...
     def step_single(
         self, action: Any
     ) -> tuple[dict[str, NDArray[Any]], float, bool, bool, dict[str, Any]]: ...
@@ -506,7 +519,9 @@ class EpisodeBatch:
     def info_arrays(self) -> dict[str, NDArray[Any]]: ...
     def last_motions(self, index: int) -> NDArray[np.float64]: ...
     def infos(self) -> list[dict[str, Any]]: ...
-    def render_state(self, index: int) -> dict[str, Any]: ...
+    def render_state(
+        self, index: int, pixels_per_metre: float | None = None, in_front: float = 0.0
+    ) -> dict[str, Any]: ...
     def decode_map(self, image: NDArray[np.uint8]) -> dict[str, NDArray[np.float64]]: ...
     def decode_proprio(self, proprio: NDArray[np.float32]) -> dict[str, float | bool | int]: ...
     def geometry(self) -> dict[str, Any]: ...

@@ -1,8 +1,10 @@
 """Pictures of an episode: the scene from above beside the agent's map, and GIFs.
 
 ``render_frame`` draws what ``CupboardSearchEnv.render()`` returns (an RGB array) with
-numpy alone, so the environment renders with only its own dependencies; ``save_gif``
-writes a list of frames and needs Pillow through matplotlib (the ``plots`` extra).
+numpy alone, from what the core hands it (``EpisodeBatch.render_state``: the jars' pixels,
+the hand, the readings and the map's grids by name), so the environment renders with only
+its own dependencies; ``save_gif`` writes a list of frames and needs Pillow (the ``plots``
+extra).
 """
 
 from __future__ import annotations
@@ -13,23 +15,8 @@ from typing import Any
 
 import numpy as np
 
-from tactile_search import _core
-
-#: How to get what drawing needs: the ``plots`` extra.
+#: How to get what writing GIFs needs: the ``plots`` extra.
 PLOTS_EXTRA = "pip install 'tactile_search[plots]'"
-
-
-def _matplotlib() -> Any:
-    """matplotlib with its file-only backend, or an ImportError saying which extra to
-    install (the environment itself needs only numpy and gymnasium)."""
-    try:
-        import matplotlib
-    except ModuleNotFoundError as error:
-        raise ImportError(
-            f"rendering frames needs matplotlib, which is not installed: {PLOTS_EXTRA}"
-        ) from error
-    matplotlib.use("Agg")
-    return matplotlib
 
 
 #: Pixels per metre of every panel (2 mm a pixel).
@@ -75,13 +62,6 @@ class _Panel:
         self.image = np.empty((self.height, self.width, 3), dtype=np.uint8)
         self.image[:] = BACKGROUND
 
-    def footprints(self, jars: list[dict[str, Any]]) -> np.ndarray:
-        """Where the jars stand, (height, width) booleans, from the core's footprints."""
-        if not jars:
-            return np.zeros((self.height, self.width), dtype=bool)
-        mask = _core.footprint_mask(_jar_dict(jars), self.bounds, (self.height, self.width))
-        return np.flipud(mask)
-
     def segment(self, start: np.ndarray, end: np.ndarray, half_width: float) -> np.ndarray:
         """Pixels within ``half_width`` of the segment from ``start`` to ``end``."""
         d = end - start
@@ -96,16 +76,6 @@ class _Panel:
         i = np.clip(((self.y - y0) / (y1 - y0) * h).astype(int), 0, h - 1)
         j = np.clip(((self.x - x0) / (x1 - x0) * w).astype(int), 0, w - 1)
         return values[i, j]
-
-
-def _jar_dict(jars: list[dict[str, Any]]) -> dict[str, Any]:
-    """``render_state``'s jars as the core's jar arrays."""
-    return {
-        "shapes": [jar["shape"] for jar in jars],
-        "positions": [[jar["x"], jar["y"]] for jar in jars],
-        "half_widths": [jar["size"] / 2 for jar in jars],
-        "yaws": [jar["yaw"] for jar in jars],
-    }
 
 
 def _edges(mask: np.ndarray) -> np.ndarray:
@@ -126,8 +96,11 @@ def _scene_panel(state: dict[str, Any]) -> np.ndarray:
     corners = [np.array(c) for c in ((x0, y0), (x0, y1), (x1, y1), (x1, y0))]
     for start, end in itertools.pairwise(corners):
         panel.image[panel.segment(start, end, wall)] = WALL
-    for jar in state["jars"]:
-        panel.image[panel.footprints([jar])] = TARGET if jar["is_target"] else JAR
+    jar_pixels = state["jar_pixels"]
+    panel.image[jar_pixels >= 0] = JAR
+    for index, jar in enumerate(state["jars"]):
+        if jar["is_target"]:
+            panel.image[jar_pixels == index] = TARGET
     x, y, yaw = state["hand"]
     h = state["wrist_half_extent"]
     c, s = np.cos(yaw), np.sin(yaw)
@@ -144,17 +117,20 @@ def _scene_panel(state: dict[str, Any]) -> np.ndarray:
     return panel.image
 
 
-def _map_panel(state: dict[str, Any], key: str, outlines: np.ndarray, height: int) -> np.ndarray:
-    """One map channel over the map's bounds, with the true ``outlines`` (a pixel mask of
-    the same panel) in magenta, padded to ``height``."""
+def _map_panel(name: str, grid: np.ndarray, state: dict[str, Any], outlines: np.ndarray,
+               height: int) -> np.ndarray:  # fmt: skip
+    """The map's grid ``name`` over the map's bounds, with the true ``outlines`` (a pixel
+    mask of the same panel) in magenta, padded to ``height``: a signed ``mean`` on a
+    diverging ramp with its zero level in black, a ``std`` scaled to its largest value,
+    anything else (a probability) on [0, 1]."""
     panel = _Panel(state["bounds"])
-    values = panel.grid(np.asarray(state[key], dtype=float))
-    if key == "mean":
-        limit = max(float(np.abs(state[key]).max()), 1e-6)
+    values = panel.grid(np.asarray(grid, dtype=float))
+    if name == "mean":
+        limit = max(float(np.abs(grid).max()), 1e-6)
         panel.image[:] = _ramp(0.5 + 0.5 * values / limit, DIVERGING)
         panel.image[_edges(values < 0)] = FINGER
     else:
-        top = max(float(np.max(state[key])), 1e-9) if key == "std" else 1.0
+        top = max(float(np.max(grid)), 1e-9) if name == "std" else 1.0
         panel.image[:] = _ramp(values / top, SEQUENTIAL)
     panel.image[outlines] = OUTLINE
     padded = np.empty((height, panel.width, 3), dtype=np.uint8)
@@ -163,15 +139,25 @@ def _map_panel(state: dict[str, Any], key: str, outlines: np.ndarray, height: in
     return padded
 
 
-def render_frame(state: dict[str, Any], map_mode: str) -> np.ndarray:
-    """An RGB ``(H, W, 3)`` uint8 picture, drawn with numpy alone: the scene from above (the
-    cupboard and what is in front of it), then the map's panels (GPIS mean with its zero
-    level in black, and std; or the occupancy), each with the jars' true outlines in
-    magenta."""
+def episode_frame(batch: Any, index: int) -> np.ndarray:
+    """The frame of episode ``index`` of ``batch`` (a ``_core.EpisodeBatch``)."""
+    return render_frame(batch.render_state(index, PIXELS_PER_METRE, SCENE_MARGIN))
+
+
+def render_frame(state: dict[str, Any]) -> np.ndarray:
+    """An RGB ``(H, W, 3)`` uint8 picture of a ``render_state`` made with
+    ``PIXELS_PER_METRE`` and ``SCENE_MARGIN`` (``episode_frame``), drawn with numpy alone:
+    the scene from above (the cupboard and what is in front of it), then a panel per grid
+    of the map, in the core's order (GPIS mean with its zero level in black, and std; or
+    the occupancy), each with the jars' true outlines in magenta."""
     scene = _scene_panel(state)
-    keys = {"gpis": ["mean", "std"], "occupancy": ["occupancy"], "none": []}[map_mode]
-    outlines = _edges(_Panel(state["bounds"]).footprints(state["jars"])) if keys else None
-    panels = [scene] + [_map_panel(state, key, outlines, scene.shape[0]) for key in keys]
+    # The map's panels are the scene panel's rows behind the opening.
+    map_height = _Panel(state["bounds"]).height
+    outlines = _edges(state["jar_pixels"][:map_height] >= 0)
+    panels = [scene] + [
+        _map_panel(name, grid, state, outlines, scene.shape[0])
+        for name, grid in state["map"].items()
+    ]
     gap = np.empty((scene.shape[0], 4, 3), dtype=np.uint8)
     gap[:] = 255
     parts = [panels[0]]
@@ -183,11 +169,15 @@ def render_frame(state: dict[str, Any], map_mode: str) -> np.ndarray:
 def save_gif(
     frames: list[np.ndarray], path: str | Path, fps: int = 10, comment: str | None = None
 ) -> Path:
-    """Writes ``frames`` (RGB arrays) to a GIF with matplotlib's Pillow writer; ``comment``,
-    if given, is stored in the GIF (Pillow reads it back as ``Image.open(path).info``'s
-    ``comment``)."""
-    _matplotlib()
-    from PIL import Image
+    """Writes ``frames`` (RGB arrays) to a GIF with Pillow (the ``plots`` extra);
+    ``comment``, if given, is stored in the GIF (Pillow reads it back as
+    ``Image.open(path).info``'s ``comment``)."""
+    try:
+        from PIL import Image
+    except ModuleNotFoundError as error:
+        raise ImportError(
+            f"writing GIFs needs Pillow, which is not installed: {PLOTS_EXTRA}"
+        ) from error
 
     if not frames:
         raise ValueError("frames must hold at least one frame, got none")

@@ -10,11 +10,16 @@ defined here once: the agents, the benchmarks, the experiments and the docs impo
   the final evaluation (``--final``).
 
 A number tuned on a range is not reported as held-out on it.
+
+``ANY`` ``[0, 2**63)`` is the range a ``gymnasium.make`` env draws its layouts from when
+``reset()`` is given no seed (and the vector envs' default): every layout, held-out ones
+included.
 """
 
 from __future__ import annotations
 
-TRAINING = (2**32, 2**63)
+ANY = (0, 2**63)
+TRAINING = (2**32, ANY[1])
 VALIDATION = (1_000_000, 2_000_000)
 TEST = (2_000_000, 3_000_000)
 #: The held-out ranges by name.

@@ -19,21 +19,29 @@ pub(crate) fn seed_of(seed: &Bound<'_, PyAny>) -> PyResult<u64> {
 /// A thread count: a positive integer (a Python or numpy int, not a bool), or None for
 /// every core.
 pub(crate) fn threads_of(threads: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
-    const EXPECTED: &str = "a positive int or None";
-    let Some(threads) = threads.filter(|t| !t.is_none()) else {
-        return Ok(None);
-    };
-    if threads.is_instance_of::<PyBool>() {
-        return Err(wrong_type("threads", EXPECTED, threads));
+    match threads.filter(|t| !t.is_none()) {
+        None => Ok(None),
+        Some(threads) => positive_int("threads", "a positive int or None", threads).map(Some),
     }
-    let whole: i128 = threads
+}
+
+/// A count `what`: a positive integer (a Python or numpy int, not a bool); `TypeError` for
+/// another type, `ValueError` below 1.
+pub(crate) fn count_of(what: &str, count: &Bound<'_, PyAny>) -> PyResult<usize> {
+    positive_int(what, "a positive int", count)
+}
+
+fn positive_int(what: &str, expected: &str, value: &Bound<'_, PyAny>) -> PyResult<usize> {
+    if value.is_instance_of::<PyBool>() {
+        return Err(wrong_type(what, expected, value));
+    }
+    let whole: i128 = value
         .extract()
-        .map_err(|_| wrong_type("threads", EXPECTED, threads))?;
+        .map_err(|_| wrong_type(what, expected, value))?;
     usize::try_from(whole)
         .ok()
         .filter(|&n| n >= 1)
-        .map(Some)
-        .ok_or_else(|| wrong_value("threads", EXPECTED, threads))
+        .ok_or_else(|| wrong_value(what, expected, value))
 }
 
 /// An (rows, cols) float64 array owning `flat` (row-major).

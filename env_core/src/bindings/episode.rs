@@ -9,29 +9,32 @@
 use std::time::Instant;
 
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use super::actions::action_rows;
 use super::batch_arrays::BatchArrays;
-use super::convert::{seed_of, threads_of};
+use super::convert::{count_of, seed_of, threads_of};
 use super::decode::{geometry_dict, map_dict, probe_motions, proprio_dict};
-use super::errors::{episode_error, episode_index_error, wrong_type, wrong_value};
+use super::episode_config::PyEpisodeConfig;
+use super::errors::{episode_index_error, wrong_type, wrong_value};
 use super::exclusive::Exclusive;
-use super::settings::{config_dict, config_from, describe};
 use super::step_info::info_dict;
 use crate::episode::maps::GridValues;
+use crate::episode::metrics::{footprint_of, footprints_mask};
 use crate::episode::{
     oracle_action, ActionMode, Command, EpisodeBatch, EpisodeConfig, EpisodeError, PROPRIO_LEN,
 };
-use crate::scene::JarShape;
-use crate::settings::Choice;
+use crate::gpis::GridSpec;
+use crate::scene::JarState;
+use crate::settings::{Checked, Choice};
 
 /// N episodes with one configuration (see `tactile_search.CupboardSearchEnv`).
 #[pyclass(name = "EpisodeBatch", module = "tactile_search._core", frozen)]
 pub struct PyEpisodeBatch {
     /// The settings, fixed at construction (readable while another call runs).
-    config: EpisodeConfig,
+    config: Checked<EpisodeConfig>,
     num_envs: usize,
     state: Exclusive<BatchState>,
 }
@@ -96,32 +99,29 @@ impl BatchState {
 
 #[pymethods]
 impl PyEpisodeBatch {
-    /// Episodes seeded `seeds[i]`, with the default settings updated by `config` (a dict)
-    /// and keyword arguments: every key of `EpisodeBatch.settings()` (the episode's, the
-    /// map's, the reward's and the scene's).
+    /// `num_envs` episodes of `config` (an `EpisodeConfig`, checked when it was made), none
+    /// started: `reset` or `reset_many` starts each (until then a step raises and the
+    /// observation is zeros). `threads`: see the `threads` getter; None uses every core.
     #[new]
-    #[pyo3(signature = (seeds, threads = None, config = None, **settings))]
+    #[pyo3(signature = (config, num_envs, threads = None))]
     fn new(
         py: Python<'_>,
-        seeds: &Bound<'_, PyAny>,
+        config: &Bound<'_, PyAny>,
+        num_envs: &Bound<'_, PyAny>,
         threads: Option<&Bound<'_, PyAny>>,
-        config: Option<&Bound<'_, PyAny>>,
-        settings: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
-        let seeds: Vec<u64> = seeds
-            .try_iter()
-            .map_err(|_| wrong_type("seeds", "a sequence of ints", seeds))?
-            .map(|s| seed_of(&s?))
-            .collect::<PyResult<_>>()?;
-        if seeds.is_empty() {
-            return Err(wrong_value("seeds", "at least one seed", "none"));
-        }
+        let config = config
+            .cast::<PyEpisodeConfig>()
+            .map_err(|_| wrong_type("config", "an EpisodeConfig", config))?
+            .get()
+            .checked
+            .clone();
+        let num_envs = count_of("num_envs", num_envs)?;
         let threads = threads_of(threads)?;
-        let config: EpisodeConfig = config_from(config, settings)?;
         let built = config.clone();
         let inner = py
-            .detach(|| EpisodeBatch::new(built, &seeds, threads))
-            .map_err(|e| episode_error(0, e))?;
+            .detach(|| EpisodeBatch::new(built, num_envs, threads))
+            .map_err(PyErr::from)?;
         let n = inner.len();
         let channels = config.map.mode.kind().channels.len();
         let (h, w) = config.map.grid_shape;
@@ -143,29 +143,12 @@ impl PyEpisodeBatch {
         })
     }
 
-    /// The episode's settings table (the scene's included): one dict per setting with key,
-    /// type, default, range, choices and doc.
-    #[staticmethod]
-    fn settings(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
-        describe::<EpisodeConfig>(py)
-    }
-
-    /// Checks settings given as keyword arguments (TypeError / ValueError naming the key)
-    /// and returns every setting by key: the defaults with the given ones over them.
-    #[staticmethod]
-    #[pyo3(signature = (**settings))]
-    fn resolve_settings<'py>(
-        py: Python<'py>,
-        settings: Option<&Bound<'py, PyDict>>,
-    ) -> PyResult<Bound<'py, PyDict>> {
-        let config: EpisodeConfig = config_from(None, settings)?;
-        config_dict(py, &config)
-    }
-
-    /// Every setting of this batch by key.
+    /// The batch's settings, the `EpisodeConfig` it was made with.
     #[getter]
-    fn config<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        config_dict(py, &self.config)
+    fn config(&self) -> PyEpisodeConfig {
+        PyEpisodeConfig {
+            checked: self.config.clone(),
+        }
     }
 
     /// Resets episode `index` to `seed` (the GIL released) and writes only its entries of
@@ -247,6 +230,84 @@ impl PyEpisodeBatch {
         let (maps, proprio) = state.arrays.observation(py);
         let (rewards, terminated, truncated, info) = state.arrays.results(py);
         Ok((maps, proprio, rewards, terminated, truncated, info))
+    }
+
+    /// stable-baselines3's step, in one call: steps every episode with its row of `actions`
+    /// (N, 3); each episode that ended (terminated or truncated) starts over at once on the
+    /// next unused seed of `seeds` (N ints; the k-th ended episode, in index order, takes
+    /// `seeds[k]`). Returns (observation dict of fresh arrays: the new episodes' first
+    /// observations, rewards (N,) float32, dones (N,) bool, infos): one dict of Python
+    /// scalars per episode, its step's info; an ended episode's also holds
+    /// `terminal_observation` (its last observation), `TimeLimit.truncated` and
+    /// `is_success`. The steps run in parallel, then the resets. Raises as `step` does,
+    /// before any episode moves.
+    #[allow(clippy::type_complexity)]
+    fn step_autoreset<'py>(
+        &self,
+        py: Python<'py>,
+        actions: &Bound<'py, PyAny>,
+        seeds: &Bound<'py, PyAny>,
+    ) -> PyResult<(
+        Bound<'py, PyDict>,
+        Bound<'py, PyArray1<f32>>,
+        Bound<'py, PyArray1<bool>>,
+        Bound<'py, PyList>,
+    )> {
+        let n = self.num_envs;
+        let commands: Vec<Command> = action_rows("actions", actions, &[n, 3])?
+            .into_iter()
+            .map(Command::Step)
+            .collect();
+        let seeds: Vec<u64> = seeds
+            .try_iter()
+            .map_err(|_| wrong_type("seeds", "a sequence of ints", seeds))?
+            .map(|seed| seed_of(&seed?))
+            .collect::<PyResult<_>>()?;
+        if seeds.len() != n {
+            return Err(wrong_value(
+                "seeds",
+                &format!("{n} seeds (one per episode)"),
+                seeds.len(),
+            ));
+        }
+        let mut state = self.state.lock()?;
+        state.run(py, &commands, None)?;
+        let mut rewards = Vec::with_capacity(n);
+        let mut dones = Vec::with_capacity(n);
+        let infos = PyList::empty(py);
+        let mut resets = vec![Command::Hold; n];
+        let mut unused_seeds = seeds.into_iter();
+        for (index, episode) in state.inner.episodes().iter().enumerate() {
+            let info = episode.last_info();
+            let done = info.terminated || info.truncated;
+            rewards.push(info.reward as f32);
+            dones.push(done);
+            let dict = info_dict(py, info)?;
+            if done {
+                dict.set_item("terminal_observation", state.observation_of(py, index)?)?;
+                dict.set_item("TimeLimit.truncated", info.truncated)?;
+                dict.set_item("is_success", info.success)?;
+                if let Some(seed) = unused_seeds.next() {
+                    resets[index] = Command::Reset(seed);
+                }
+            }
+            infos.append(dict)?;
+        }
+        if resets.iter().any(|c| matches!(c, Command::Reset(_))) {
+            state.run(py, &resets, None)?;
+        }
+        let (maps, proprio) = state.arrays.observation(py);
+        let observation = PyDict::new(py);
+        if let Some(maps) = maps {
+            observation.set_item("map", maps.call_method0("copy")?)?;
+        }
+        observation.set_item("proprio", proprio.call_method0("copy")?)?;
+        Ok((
+            observation,
+            PyArray1::from_vec(py, rewards),
+            PyArray1::from_vec(py, dones),
+            infos,
+        ))
     }
 
     /// Steps a batch of one with `action` (3,) and returns gymnasium's step tuple for it:
@@ -353,26 +414,47 @@ impl PyEpisodeBatch {
         Ok(infos)
     }
 
-    /// Ground truth and map of episode `index` for rendering: jars, hand, finger, contacts,
-    /// target, the map's bounds, and its mean/std (gpis) or occupancy probability grids.
-    fn render_state<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyDict>> {
+    /// Ground truth and map of episode `index` for rendering: jars (shape name, centre,
+    /// yaw, half width, tilt, whether the target), hand, finger, contacts, the hand's
+    /// sizes, the map's bounds, its grids by name under `map` (`mean` and `std` for gpis,
+    /// `occupancy`; none in the `none` mode, in the order of the mode's channels), and,
+    /// given `pixels_per_metre`, `jar_pixels`: which jar covers each pixel (its index, -1
+    /// for none) of an image at that resolution over the map's bounds widened by
+    /// `in_front` metres before the opening, row 0 at the back of the cupboard.
+    /// `RuntimeError` before the first reset.
+    #[pyo3(signature = (index, pixels_per_metre = None, in_front = 0.0))]
+    fn render_state<'py>(
+        &self,
+        py: Python<'py>,
+        index: usize,
+        pixels_per_metre: Option<f64>,
+        in_front: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        if let Some(ppm) = pixels_per_metre.filter(|p| !(p.is_finite() && *p > 0.0)) {
+            return Err(wrong_value("pixels_per_metre", "finite and > 0", ppm));
+        }
+        if !(in_front.is_finite() && in_front >= 0.0) {
+            return Err(wrong_value("in_front", "finite and >= 0", in_front));
+        }
         let state = self.state.lock()?;
         let index = state.episode_index(index)?;
         let episode = &state.inner.episodes()[index];
+        if !episode.is_started() {
+            return Err(PyRuntimeError::new_err(format!(
+                "episode {index} has not started: call reset() before rendering it"
+            )));
+        }
         let scene = episode.scene();
         let d = PyDict::new(py);
         let jars = PyList::empty(py);
-        for (i, jar) in scene.jar_states().iter().enumerate() {
+        let jar_states = scene.jar_states();
+        for (i, jar) in jar_states.iter().enumerate() {
             let j = PyDict::new(py);
+            j.set_item("shape", jar.spec.shape.name())?;
             j.set_item("x", jar.position[0])?;
             j.set_item("y", jar.position[1])?;
             j.set_item("yaw", crate::episode::metrics::yaw_of(jar.rotation))?;
-            let (shape, size) = match jar.spec.shape {
-                JarShape::Round { radius } => ("round", 2.0 * radius),
-                JarShape::Square { half_side } => ("square", 2.0 * half_side),
-            };
-            j.set_item("shape", shape)?;
-            j.set_item("size", size)?;
+            j.set_item("half_width", jar.spec.shape.half_width())?;
             j.set_item("tilt", jar.disturbance.tilt)?;
             j.set_item("is_target", i == scene.target())?;
             jars.append(j)?;
@@ -393,15 +475,37 @@ impl PyEpisodeBatch {
             .map(|c| [c.point[0], c.point[1], c.normal[0], c.normal[1]])
             .collect();
         d.set_item("contacts", contacts)?;
-        d.set_item("bounds", episode.grid().bounds())?;
+        let bounds = episode.grid().bounds();
+        d.set_item("bounds", bounds)?;
         let (h, w) = episode.grid().shape();
+        let map = PyDict::new(py);
         for (name, values) in episode.map().render_grids() {
             let grid = match values {
                 GridValues::F64(v) => PyArray1::from_vec(py, v).reshape([h, w])?.into_any(),
                 GridValues::F32(v) => PyArray1::from_vec(py, v).reshape([h, w])?.into_any(),
             };
-            d.set_item(name, grid)?;
+            map.set_item(name, grid)?;
         }
+        d.set_item("map", map)?;
+        let Some(pixels_per_metre) = pixels_per_metre else {
+            return Ok(d);
+        };
+        let [[x0, x1], [y0, y1]] = bounds;
+        let pixels = GridSpec::new(
+            [[x0, x1], [y0 - in_front, y1]],
+            (
+                ((y1 - y0 + in_front) * pixels_per_metre).round().max(1.0) as usize,
+                ((x1 - x0) * pixels_per_metre).round().max(1.0) as usize,
+            ),
+        )?;
+        let (rows, columns) = pixels.shape();
+        let labels = jar_labels(&pixels, &jar_states);
+        // Row 0 of the image at the back (y1): the grid's rows run from y0 up.
+        let flipped: Vec<i8> = labels.chunks(columns).rev().flatten().copied().collect();
+        d.set_item(
+            "jar_pixels",
+            PyArray1::from_vec(py, flipped).reshape([rows, columns])?,
+        )?;
         Ok(d)
     }
 
@@ -515,4 +619,21 @@ impl PyEpisodeBatch {
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
         probe_motions(py, &self.config, pose, actions)
     }
+}
+
+/// Which jar covers each cell of `grid` (row-major, row 0 at the grid's y0): the jar's
+/// index, or -1.
+fn jar_labels(grid: &GridSpec, jars: &[JarState]) -> Vec<i8> {
+    let mut labels = vec![-1i8; grid.n_cells()];
+    let mut mask = Vec::new();
+    for (index, jar) in jars.iter().enumerate() {
+        footprints_mask(grid, [footprint_of(jar)], 0.0, &mut mask);
+        let label = i8::try_from(index).expect("a layout holds at most 7 jars");
+        for (cell, &covered) in labels.iter_mut().zip(&mask) {
+            if covered {
+                *cell = label;
+            }
+        }
+    }
+    labels
 }

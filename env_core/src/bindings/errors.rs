@@ -1,5 +1,6 @@
-//! Every Python exception the bindings raise is built here. A setting of the wrong type is a
-//! `TypeError`; every other core error (a setting out of range, a bad layout, a non-finite
+//! Every Python exception the bindings raise is built here. A setting that does not exist or
+//! is of the wrong type is a `TypeError` (as Python's own for a bad keyword argument); every
+//! other core error (a setting out of range, a bad layout, a non-finite
 //! action) is a `ValueError`; each message says what was expected and what came.
 
 use pyo3::exceptions::{PyIndexError, PyTypeError, PyValueError};
@@ -13,10 +14,10 @@ use crate::settings::SettingError;
 impl From<SettingError> for PyErr {
     fn from(error: SettingError) -> Self {
         match error {
-            SettingError::WrongType { .. } => PyTypeError::new_err(error.to_string()),
-            SettingError::UnknownKey { .. } | SettingError::OutOfRange { .. } => {
-                PyValueError::new_err(error.to_string())
+            SettingError::WrongType { .. } | SettingError::UnknownKey { .. } => {
+                PyTypeError::new_err(error.to_string())
             }
+            SettingError::OutOfRange { .. } => PyValueError::new_err(error.to_string()),
         }
     }
 }
@@ -37,17 +38,6 @@ impl From<SceneError> for PyErr {
             // what was expected and what came.
             other => PyValueError::new_err(other.to_string()),
         }
-    }
-}
-
-/// The error of episode `index` of a batch: a bad setting as itself (it concerns every
-/// episode), anything else (a non-finite action, a step after the end) naming the episode.
-pub(crate) fn episode_error(index: usize, error: EpisodeError) -> PyErr {
-    match error {
-        EpisodeError::Setting(setting) | EpisodeError::Scene(SceneError::Setting(setting)) => {
-            setting.into()
-        }
-        other => PyValueError::new_err(format!("episode {index}: {other}")),
     }
 }
 

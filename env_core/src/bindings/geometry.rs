@@ -68,17 +68,17 @@ pub(super) fn footprints(jars: &Bound<'_, PyAny>) -> PyResult<Vec<Footprint>> {
             if half <= 0.0 {
                 return Err(wrong_value("jars[\"half_widths\"]", "> 0 everywhere", half));
             }
-            let shape = match shapes[k].as_str() {
-                "round" => JarShape::Round { radius: half },
-                "square" => JarShape::Square { half_side: half },
-                other => {
-                    return Err(wrong_value(
-                        "jars[\"shapes\"]",
-                        "\"round\" or \"square\"",
-                        format!("{other:?}"),
-                    ))
-                }
-            };
+            let shape = JarShape::from_name(&shapes[k], half).ok_or_else(|| {
+                wrong_value(
+                    "jars[\"shapes\"]",
+                    &format!(
+                        "{:?} or {:?}",
+                        JarShape::Round { radius: half }.name(),
+                        JarShape::Square { half_side: half }.name()
+                    ),
+                    format!("{:?}", shapes[k]),
+                )
+            })?;
             Ok(Footprint {
                 shape,
                 centre: [flat[k * columns], flat[k * columns + 1]],
@@ -256,11 +256,7 @@ pub(super) fn hand_geometry<'py>(
     config: Option<&Bound<'py, PyAny>>,
     kwargs: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let scene = if config.is_none() && kwargs.is_none() {
-        SceneConfig::default()
-    } else {
-        config_from::<SceneConfig>(config, kwargs)?
-    };
+    let scene = config_from::<SceneConfig>(config, kwargs)?;
     let hand = &scene.hand;
     let d = config_dict(py, hand)?;
     d.set_item("joint_offset", joint_offset(hand))?;

@@ -19,6 +19,7 @@ mod batch_arrays;
 mod convert;
 mod decode;
 mod episode;
+mod episode_config;
 mod errors;
 mod exclusive;
 mod geometry;
@@ -52,6 +53,7 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<gpis::PyGpis>()?;
     m.add_function(wrap_pyfunction!(gpis::gpis_defaults, m)?)?;
     m.add_class::<scene::PyScene>()?;
+    m.add_class::<episode_config::PyEpisodeConfig>()?;
     m.add_class::<episode::PyEpisodeBatch>()?;
     geometry::register(m)?;
     prior::register(m)?;

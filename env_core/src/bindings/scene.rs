@@ -10,7 +10,7 @@ use super::convert::{array2, rows_array, seed_of};
 use super::errors::wrong_value;
 use super::exclusive::Exclusive;
 use super::settings::{config_dict, config_from, describe};
-use crate::scene::{Contact, DepthCapture, HandCommand, JarShape, Scene, SceneConfig, StepReport};
+use crate::scene::{Contact, DepthCapture, HandCommand, Scene, SceneConfig, StepReport};
 use crate::settings::Settings;
 
 fn capture_dict<'py>(py: Python<'py>, look: &DepthCapture) -> PyResult<Bound<'py, PyDict>> {
@@ -71,11 +71,8 @@ impl PyScene {
         kwargs: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         let seed = seed.map_or(Ok(0), seed_of)?;
-        let config = match (config, kwargs) {
-            (None, None) => SceneConfig::default(),
-            _ => config_from::<SceneConfig>(config, kwargs)?,
-        };
-        let inner = py.detach(|| Scene::new(config, seed))?;
+        let config = config_from::<SceneConfig>(config, kwargs)?;
+        let inner = py.detach(|| Scene::new(&config, seed))?;
         Ok(Self {
             scene: Exclusive::new("Scene", inner),
         })
@@ -246,10 +243,7 @@ impl PyScene {
     fn target_shape(&self) -> PyResult<&'static str> {
         let scene = self.scene.lock()?;
         let layout = scene.layout();
-        Ok(match layout.jars[layout.target].shape {
-            JarShape::Round { .. } => "round",
-            JarShape::Square { .. } => "square",
-        })
+        Ok(layout.jars[layout.target].shape.name())
     }
 
     /// Visible fraction of the target (visible / silhouette pixels, by ray casting).

@@ -11,7 +11,7 @@ use pyo3::types::{
 };
 
 use super::errors::{type_name, wrong_type};
-use crate::settings::{SettingValue, Settings};
+use crate::settings::{Checked, SettingValue, Settings};
 
 /// The Python value as a [`SettingValue`]; `TypeError` for anything a setting never takes
 /// (a dict, a set, bytes, an object).
@@ -81,11 +81,12 @@ pub(super) fn to_python<'py>(py: Python<'py>, value: &SettingValue) -> PyResult<
 
 /// A config `C` from its defaults, then `config` (a dict or None), then keyword arguments;
 /// a key given in both is an error. Every value is type checked and the whole config
-/// range checked. Errors name the key as typed.
+/// checked, once: the result is what the core's constructors take. Errors name the key as
+/// typed.
 pub(super) fn config_from<C: Settings>(
     config: Option<&Bound<'_, PyAny>>,
     kwargs: Option<&Bound<'_, PyDict>>,
-) -> PyResult<C> {
+) -> PyResult<Checked<C>> {
     let mut pairs: Vec<(String, SettingValue)> = Vec::new();
     if let Some(config) = config.filter(|c| !c.is_none()) {
         let dict = config.cast::<PyDict>().map_err(|_| {

@@ -41,6 +41,7 @@ use super::error::EpisodeError;
 use super::observation::PROPRIO_LEN;
 use super::shared_tiles::SharedTiles;
 use super::step_info::InfoColumns;
+use crate::settings::Checked;
 
 /// What [`EpisodeBatch::run`] does with one episode.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -124,15 +125,18 @@ impl Helpers {
 }
 
 impl EpisodeBatch {
-    /// Episodes seeded `seeds[i]`; `threads = None` uses every available core.
+    /// `len` episodes of `config`, none started: a [`Command::Reset`] starts each.
+    /// `threads = None` uses every available core.
+    ///
+    /// # Errors
+    /// A map that cannot be built on the config's grid ([`EpisodeError::Gpis`]).
     pub fn new(
-        config: EpisodeConfig,
-        seeds: &[u64],
+        config: Checked<EpisodeConfig>,
+        len: usize,
         threads: Option<usize>,
     ) -> Result<Self, EpisodeError> {
-        let mut episodes = seeds
-            .iter()
-            .map(|&seed| Episode::new(config.clone(), seed))
+        let mut episodes = (0..len)
+            .map(|_| Episode::new(config.clone()))
             .collect::<Result<Vec<_>, _>>()?;
         let cores = thread::available_parallelism().map_or(1, NonZeroUsize::get);
         // More threads than episodes only help with resets' grid tiles: up to the cores.
@@ -145,6 +149,24 @@ impl EpisodeBatch {
             threads,
             helpers,
         })
+    }
+
+    /// [`EpisodeBatch::new`] with an episode for each of `seeds`, then a run that resets
+    /// each to its seed: a batch ready to step.
+    ///
+    /// # Errors
+    /// As [`EpisodeBatch::new`] and [`Episode::reset`].
+    pub fn started(
+        config: Checked<EpisodeConfig>,
+        seeds: &[u64],
+        threads: Option<usize>,
+    ) -> Result<Self, EpisodeError> {
+        let mut batch = Self::new(config, seeds.len(), threads)?;
+        let resets: Vec<Command> = seeds.iter().map(|&seed| Command::Reset(seed)).collect();
+        let mut maps = vec![0u8; seeds.len() * batch.map_len()];
+        let mut proprio = vec![0f32; seeds.len() * PROPRIO_LEN];
+        batch.run(&resets, &mut maps, &mut proprio)?;
+        Ok(batch)
     }
 
     /// Number of episodes.
@@ -521,6 +543,12 @@ mod tests {
         assert_eq!(take(End::Back), None);
     }
 
+    /// A batch of `config` on `threads` threads, its episodes reset to `seeds`.
+    fn started(config: EpisodeConfig, seeds: &[u64], threads: usize) -> EpisodeBatch {
+        let checked = Checked::new(config).unwrap();
+        EpisodeBatch::started(checked, seeds, Some(threads)).unwrap()
+    }
+
     /// Every observation and info after each run of mixed commands (resets, holds, steps in
     /// random order) on a batch of `n` episodes and `threads` threads.
     fn trace(
@@ -535,7 +563,7 @@ mod tests {
         assert_eq!(config.map.mode, MapMode::Gpis, "the grid tiles are shared");
         let counts = config.probe.counts();
         let seeds: Vec<u64> = (0..n as u64).collect();
-        let mut batch = EpisodeBatch::new(config, &seeds, Some(threads)).unwrap();
+        let mut batch = started(config, &seeds, threads);
         if threads <= n {
             assert_eq!(batch.threads(), threads);
         }
@@ -594,7 +622,7 @@ mod tests {
         let mut config = EpisodeConfig::default();
         config.map.mode = MapMode::None;
         let n = 4;
-        let mut batch = EpisodeBatch::new(config, &[0, 1, 2, 3], Some(2)).unwrap();
+        let mut batch = started(config, &[0, 1, 2, 3], 2);
         let mut proprio = vec![0f32; n * PROPRIO_LEN];
         let ended = |batch: &EpisodeBatch| -> Vec<usize> {
             (0..n)

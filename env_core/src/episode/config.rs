@@ -4,12 +4,11 @@
 //! environment's keyword arguments, its docs and the stub are made from.
 
 use super::action_mode::ActionMode;
-use super::error::EpisodeError;
 use super::maps::MapConfig;
 use super::probe_config::{check_sweep_rate, ProbeConfig};
 use crate::scene::SceneConfig;
 use crate::settings;
-use crate::settings::{Range, SettingError, Settings};
+use crate::settings::{Range, SettingError};
 
 settings! {
     /// Reward weights. Each term is reported on its own in the step info.
@@ -94,11 +93,5 @@ impl EpisodeConfig {
     pub fn map_bounds(&self) -> [[f64; 2]; 2] {
         let half_width = self.scene.cupboard.width / 2.0;
         [[-half_width, half_width], [0.0, self.scene.cupboard.depth]]
-    }
-
-    /// Checks every setting (the scene's included) against its range, then across
-    /// settings; the first bad one is reported by its key.
-    pub fn validate(&self) -> Result<(), EpisodeError> {
-        Ok(self.check_settings()?)
     }
 }

@@ -23,16 +23,20 @@ use super::observation::{proprio, PROPRIO_LEN};
 use super::probe::{Phase, ProbeController};
 use super::step_info::StepInfo;
 use crate::gpis::{run_each, Gpis, GridSpec, SerialTiles, TileRunner};
-use crate::scene::{Contact, HandCommand, Scene};
+use crate::scene::{Contact, HandCommand, Scene, SceneConfig};
+use crate::settings::Checked;
 
 /// The target's footprint widened by this much counts as reached by the approach field, m.
 const APPROACH_CLEARANCE: f64 = 0.01;
 
 /// One episode. Reusable: [`Episode::reset`] keeps the map's storage.
 pub struct Episode {
-    config: EpisodeConfig,
+    config: Checked<EpisodeConfig>,
+    /// The scene's part of `config`, handed to every reset's scene.
+    scene_config: Checked<SceneConfig>,
     grid: GridSpec,
-    scene: Scene,
+    /// None until the first [`Episode::reset`].
+    scene: Option<Scene>,
     /// The map mode's row of the table (its image channels).
     kind: &'static MapKind,
     /// The agent's map, of the configured mode.
@@ -56,18 +60,22 @@ pub struct Episode {
 }
 
 impl Episode {
-    /// Validates `config` and starts the episode of `seed`.
-    pub fn new(config: EpisodeConfig, seed: u64) -> Result<Self, EpisodeError> {
-        config.validate()?;
+    /// An episode of `config` that has not started: its map's storage is allocated, and
+    /// [`Episode::reset`] starts it. Until then it has no scene, a step fails with
+    /// [`EpisodeError::NotReset`] and its observation is zeros.
+    ///
+    /// # Errors
+    /// A map that cannot be built on the config's grid ([`EpisodeError::Gpis`]).
+    pub fn new(config: Checked<EpisodeConfig>) -> Result<Self, EpisodeError> {
         let grid = GridSpec::new(config.map_bounds(), config.map.grid_shape)?;
         let kind = config.map.mode.kind();
         let map = (kind.build)(&config.map, &grid)?;
-        let scene = Scene::new(config.scene.clone(), seed)?;
         let probes = ProbeController::for_episode(&config);
-        let mut episode = Self {
+        Ok(Self {
+            scene_config: config.section(|c| &c.scene),
             config,
             grid,
-            scene,
+            scene: None,
             kind,
             map,
             steps: 0,
@@ -81,8 +89,13 @@ impl Episode {
             probes,
             last_info: StepInfo::default(),
             last_motions: Vec::new(),
-        };
-        episode.start()?;
+        })
+    }
+
+    /// [`Episode::new`], then [`Episode::reset`] to `seed`: an episode ready to step.
+    pub fn started(config: Checked<EpisodeConfig>, seed: u64) -> Result<Self, EpisodeError> {
+        let mut episode = Self::new(config)?;
+        episode.reset(seed)?;
         Ok(episode)
     }
 
@@ -94,13 +107,39 @@ impl Episode {
     }
 
     /// Starts the episode of `seed` (new layout, new first look, new prior).
+    ///
+    /// # Errors
+    /// A layout the scene cannot generate for this config ([`EpisodeError::Scene`]).
     pub fn reset(&mut self, seed: u64) -> Result<(), EpisodeError> {
-        self.scene = Scene::new(self.config.scene.clone(), seed)?;
+        self.scene = Some(Scene::new(&self.scene_config, seed)?);
         self.start()
     }
 
+    /// Whether a reset has started the episode.
+    pub fn is_started(&self) -> bool {
+        self.scene.is_some()
+    }
+
+    /// The scene, once started.
+    ///
+    /// # Panics
+    /// Before the first [`Episode::reset`]; callers outside the core ask
+    /// [`Episode::is_started`] first, and the step path fails with
+    /// [`EpisodeError::NotReset`] instead.
+    pub fn scene(&self) -> &Scene {
+        self.scene
+            .as_ref()
+            .expect("an episode has a scene once reset() has started it")
+    }
+
+    fn scene_mut(&mut self) -> &mut Scene {
+        self.scene
+            .as_mut()
+            .expect("an episode has a scene once reset() has started it")
+    }
+
     fn camera_xy(&self) -> [f64; 2] {
-        let p = self.scene.camera().position();
+        let p = self.scene().camera().position();
         [p[0], p[1]]
     }
 
@@ -116,11 +155,15 @@ impl Episode {
         // wherever it runs). The prior goes last: whoever takes it frees the board for the
         // grid update it posts (`SharedTiles`), so the other thread can help with that.
         let (jars, target, camera) = (
-            self.scene.jar_states(),
-            self.scene.target(),
+            self.scene().jar_states(),
+            self.scene().target(),
             self.camera_xy(),
         );
-        let (slice, grid) = (self.scene.first_slice(), &self.grid);
+        let scene = self
+            .scene
+            .as_ref()
+            .expect("start() follows a reset's new scene");
+        let (slice, grid) = (scene.first_slice(), &self.grid);
         let (approach, map) = (&mut self.approach, &mut self.map);
         let mut map_reset = Ok(());
         let pieces: [Box<dyn FnOnce() + Send + '_>; 2] = [
@@ -141,13 +184,13 @@ impl Episode {
     fn add_touch(&mut self) -> (usize, usize, usize, usize) {
         let bounds = &self.grid;
         let readings: Vec<Contact> = self
-            .scene
+            .scene()
             .contacts()
             .iter()
             .copied()
             .filter(|c| bounds.contains(c.point))
             .collect();
-        let count = self.scene.contacts().len();
+        let count = self.scene().contacts().len();
         let swept = self.swept_point(count);
         let report = self.map.add_touch(&readings, swept);
         if report.changed {
@@ -164,7 +207,7 @@ impl Episode {
         if readings > 0 {
             return None;
         }
-        let finger = self.scene.finger_pose();
+        let finger = self.scene().finger_pose();
         let tip = fingertip(
             finger.x,
             finger.y,
@@ -176,7 +219,7 @@ impl Episode {
 
     /// Metrics of the current state; also returns the displacement added since last call.
     fn measure(&mut self) -> (StepInfo, f64) {
-        let jars = self.scene.jar_states();
+        let jars = self.scene().jar_states();
         let mut info = StepInfo {
             steps: self.steps,
             ..StepInfo::default()
@@ -191,9 +234,9 @@ impl Episode {
         let added = (info.jar_displacement - self.displacement_sum).max(0.0);
         self.displacement_sum = info.jar_displacement;
         info.tipped = info.tips > 0;
-        let target = self.scene.target();
-        info.success = self.scene.true_contacts().iter().any(|c| c.jar == target);
-        let finger = self.scene.finger_pose();
+        let target = self.scene().target();
+        info.success = self.scene().true_contacts().iter().any(|c| c.jar == target);
+        let finger = self.scene().finger_pose();
         let length = self.config.scene.hand.finger_length;
         info.target_distance = self
             .approach
@@ -209,7 +252,7 @@ impl Episode {
     /// their last motion's IoU, so the motions before it need none). Cost O(G) when
     /// recomputed, O(jars) otherwise.
     fn current_iou(&mut self) -> f64 {
-        let jars = self.scene.jar_states();
+        let jars = self.scene().jar_states();
         let poses = jars.iter().map(|jar| {
             let [x, y, z] = jar.position;
             let [qx, qy, qz, qw] = jar.rotation;
@@ -250,6 +293,9 @@ impl Episode {
     /// [`Episode::step`] for an action already checked (the batch checks all of its
     /// actions once, before stepping any).
     pub(crate) fn advance(&mut self, action: [f64; 3]) -> Result<StepInfo, EpisodeError> {
+        if self.scene.is_none() {
+            return Err(EpisodeError::NotReset);
+        }
         if self.ended {
             return Err(EpisodeError::Ended);
         }
@@ -272,9 +318,9 @@ impl Episode {
     fn probe(&mut self, action: [f64; 3]) -> Result<StepInfo, EpisodeError> {
         let probe = self.probes.probe(&action);
         let mut total = StepInfo::default();
-        let mut touching = !self.scene.contacts().is_empty();
+        let mut touching = !self.scene().contacts().is_empty();
         loop {
-            let (phase, motion) = self.probes.next_motion(self.scene.hand_pose(), &probe);
+            let (phase, motion) = self.probes.next_motion(self.scene().hand_pose(), &probe);
             if phase == Phase::Done || (touching && phase.presses(&motion)) {
                 if total.motions == 0 {
                     total = self.move_wrist([0.0; 3])?;
@@ -302,11 +348,12 @@ impl Episode {
         let [ax, ay, ayaw] = action.map(|v| v.clamp(-1.0, 1.0));
         self.last_motions.push([ax, ay, ayaw]);
         let hand = &self.config.scene.hand;
-        let report = self.scene.step(HandCommand {
+        let command = HandCommand {
             dx: ax * hand.max_step_translation,
             dy: ay * hand.max_step_translation,
             dyaw: ayaw * hand.max_step_yaw,
-        })?;
+        };
+        let report = self.scene_mut().step(command)?;
         self.steps += 1;
         let (contacts, rows_added, contacts_skipped, contacts_dropped) = self.add_touch();
         let (mut info, added_displacement) = self.measure();
@@ -344,17 +391,24 @@ impl Episode {
     }
 
     /// Writes the map image (channels × H × W, channel first; see the mode's
-    /// [`super::maps::MapKind::channels`]).
+    /// [`super::maps::MapKind::channels`]); zeros before the first reset.
     pub fn write_map(&self, out: &mut [u8]) -> Result<(), EpisodeError> {
         check_length("map", self.map_len(), out.len())?;
-        self.map.encode(out);
+        match self.scene {
+            Some(_) => self.map.encode(out),
+            None => out.fill(0),
+        }
         Ok(())
     }
 
-    /// Writes the proprio vector (see [`super::observation::PROPRIO_FIELDS`]).
+    /// Writes the proprio vector (see [`super::observation::PROPRIO_FIELDS`]); zeros
+    /// before the first reset.
     pub fn write_proprio(&self, out: &mut [f32]) -> Result<(), EpisodeError> {
         check_length("proprio", PROPRIO_LEN, out.len())?;
-        out.copy_from_slice(&proprio(&self.config, &self.scene, self.steps));
+        match &self.scene {
+            Some(scene) => out.copy_from_slice(&proprio(&self.config, scene, self.steps)),
+            None => out.fill(0.0),
+        }
         Ok(())
     }
 
@@ -370,11 +424,6 @@ impl Episode {
     /// needs to draw every motion of a probe).
     pub fn last_motions(&self) -> &[[f64; 3]] {
         &self.last_motions
-    }
-
-    /// The scene (ground truth for rendering and tests).
-    pub fn scene(&self) -> &Scene {
-        &self.scene
     }
 
     /// The agent's map.
@@ -396,7 +445,7 @@ impl Episode {
     }
 
     /// The configuration.
-    pub fn config(&self) -> &EpisodeConfig {
+    pub fn config(&self) -> &Checked<EpisodeConfig> {
         &self.config
     }
 

@@ -39,6 +39,9 @@ pub enum EpisodeError {
         /// The component's count (probe_lanes, probe_depths or probe_sweeps).
         count: usize,
     },
+    /// `step` was called on an episode that no reset has started.
+    #[error("the episode has not started; call reset() before stepping")]
+    NotReset,
     /// `step` was called on an episode that has ended (success or a tipped jar).
     #[error("the episode has ended (terminated); call reset() before stepping again")]
     Ended,

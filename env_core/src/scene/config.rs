@@ -9,9 +9,8 @@
 use std::f64::consts::PI;
 
 use super::camera_intrinsics::CameraIntrinsics;
-use super::error::SceneError;
 use crate::settings;
-use crate::settings::{Range, SettingError, Settings};
+use crate::settings::{Range, SettingError};
 
 /// Which shape the hidden target jar has.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -292,12 +291,4 @@ fn check_scene(c: &SceneConfig) -> Result<(), SettingError> {
         ));
     }
     Ok(())
-}
-
-impl SceneConfig {
-    /// Checks every setting's range, then the relations between settings; the first bad
-    /// one is reported by its key. Cost: O(settings).
-    pub fn validate(&self) -> Result<(), SceneError> {
-        Ok(self.check_settings()?)
-    }
 }

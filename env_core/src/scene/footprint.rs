@@ -31,6 +31,19 @@ impl JarShape {
         }
     }
 
+    /// The shape called `name` (as [`JarShape::name`] gives it) with radius or half side
+    /// `half_width`; None for another name.
+    pub fn from_name(name: &str, half_width: f64) -> Option<Self> {
+        [
+            Self::Round { radius: half_width },
+            Self::Square {
+                half_side: half_width,
+            },
+        ]
+        .into_iter()
+        .find(|shape| shape.name() == name)
+    }
+
     /// Radius of the circle around the cross-section, m.
     pub fn bounding_radius(self) -> f64 {
         match self {

@@ -22,6 +22,7 @@ use super::point_cloud::{process_depth, DepthCapture, SliceSpec};
 use super::ray_cast::RayTargets;
 use super::touch::{finger_contacts, with_noise, Contact};
 use super::visibility::target_visibility;
+use crate::settings::Checked;
 
 /// ChaCha stream of the depth-camera noise.
 const DEPTH_NOISE_STREAM: u64 = 1;
@@ -90,7 +91,7 @@ pub struct JarState {
 
 /// One episode's physical scene.
 pub struct Scene {
-    config: SceneConfig,
+    config: Checked<SceneConfig>,
     seed: u64,
     cupboard: Cupboard,
     layout: Layout,
@@ -115,8 +116,11 @@ impl Scene {
     /// camera's first look at the slice (the image rows that reach the slice band only; the
     /// whole image is rendered when [`Self::first_look`] asks for it). Cost: layout
     /// generation plus about a millisecond.
-    pub fn new(config: SceneConfig, seed: u64) -> Result<Self, SceneError> {
-        config.validate()?;
+    ///
+    /// # Errors
+    /// A layout the generator cannot place within its attempts, or a camera or hand that
+    /// does not fit the cupboard ([`SceneError`]).
+    pub fn new(config: &Checked<SceneConfig>, seed: u64) -> Result<Self, SceneError> {
         let cupboard = Cupboard::new(&config.cupboard);
         let camera = DepthCamera::new(&config.camera)?;
         let layout = Layout::generate(&config.layout, &cupboard, &camera, seed)?;
@@ -126,11 +130,10 @@ impl Scene {
     /// Builds a scene from an explicit layout (checked; its visibility is re-measured).
     /// `seed` drives the sensor noise.
     pub fn from_layout(
-        config: SceneConfig,
+        config: &Checked<SceneConfig>,
         mut layout: Layout,
         seed: u64,
     ) -> Result<Self, SceneError> {
-        config.validate()?;
         let cupboard = Cupboard::new(&config.cupboard);
         let camera = DepthCamera::new(&config.camera)?;
         layout.check(&cupboard)?;
@@ -139,7 +142,7 @@ impl Scene {
     }
 
     fn build(
-        config: SceneConfig,
+        config: &Checked<SceneConfig>,
         layout: Layout,
         cupboard: Cupboard,
         camera: DepthCamera,
@@ -191,7 +194,7 @@ impl Scene {
         let mut touch_rng = ChaCha8Rng::seed_from_u64(seed);
         touch_rng.set_stream(TOUCH_NOISE_STREAM);
         let first_look_rng = depth_rng.clone();
-        let slice = slice_spec(&config);
+        let slice = slice_spec(config);
         let at_rest = RayTargets::at_rest(&cupboard, &layout.jars);
         let band = [
             slice.height - 0.5 * slice.band,
@@ -206,7 +209,7 @@ impl Scene {
         .slice;
         let config_asleep = config.physics.jars_start_asleep;
         let mut scene = Self {
-            config,
+            config: config.clone(),
             seed,
             cupboard,
             layout,

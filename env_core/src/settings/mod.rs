@@ -10,13 +10,16 @@
 //! - [`SettingType`]: the Rust types a setting can have and their conversions.
 //! - [`Range`]: the interval a setting's numbers must lie in.
 //! - [`SettingError`]: unknown key, wrong type, out of range; each names the key.
+//! - [`Checked`]: a config that passed every check, what the core's constructors take.
 //! - [`Setting`], [`Settings`]: one row of a table, and a struct that has a table.
 
+mod checked;
 mod error;
 mod range;
 mod setting_type;
 mod value;
 
+pub use checked::Checked;
 pub use error::SettingError;
 pub use range::{Limit, Range, MAX_SCENE_LENGTH};
 pub use setting_type::{Choice, SettingType};
@@ -127,10 +130,7 @@ pub trait Settings: Default + 'static {
         Self::table()
             .iter()
             .find(|s| s.key == key)
-            .ok_or_else(|| SettingError::UnknownKey {
-                key: key.to_owned(),
-                known: Self::keys().join(", "),
-            })
+            .ok_or_else(|| SettingError::unknown_key(key, &Self::keys()))
     }
 
     /// Every key, in declaration order.
@@ -153,16 +153,31 @@ pub trait Settings: Default + 'static {
         Self::table().iter().map(|s| (s.key, s.get(self))).collect()
     }
 
-    /// The defaults with `pairs` written over them, checked.
+    /// The defaults with `pairs` written over them, checked: the one place a config made
+    /// from outside the core is checked.
+    ///
+    /// # Errors
+    /// An unknown key, a value of the wrong type, or the first setting or relation out of
+    /// range, named by its key.
     fn from_pairs<'a>(
         pairs: impl IntoIterator<Item = (&'a str, SettingValue)>,
-    ) -> Result<Self, SettingError> {
+    ) -> Result<Checked<Self>, SettingError> {
+        // Every key first, as Python refuses an unexpected keyword before it reads values.
+        let pairs: Vec<(&str, SettingValue)> = pairs.into_iter().collect();
+        let settings = pairs
+            .iter()
+            .map(|(key, _)| Self::setting(key))
+            .collect::<Result<Vec<_>, _>>()?;
         let mut config = Self::default();
-        for (key, value) in pairs {
-            config.set_value(key, &value)?;
+        for (setting, (_, value)) in settings.into_iter().zip(&pairs) {
+            setting.set(&mut config, value)?;
         }
-        config.check_settings()?;
-        Ok(config)
+        Checked::new(config)
+    }
+
+    /// This config, checked ([`Checked::new`]).
+    fn checked(self) -> Result<Checked<Self>, SettingError> {
+        Checked::new(self)
     }
 }
 

@@ -1,17 +1,17 @@
 """The settings of the cupboard-search environments, as the Rust core declares them.
 
 ``CupboardSearchConfig`` is made from the core's settings table
-(``tactile_search._core.EpisodeBatch.settings()``): one frozen dataclass field per setting,
+(``tactile_search._core.EpisodeConfig.settings()``): one frozen dataclass field per setting,
 with the core's type, default, range and doc (in the field's ``metadata``). Nothing is typed
 here: adding a setting in Rust adds it to this class, to the environments' signatures and
-to their docs. Building a config checks every value in the core (``TypeError`` for a wrong
-type, ``ValueError`` for a value out of range, each naming the key).
+to their docs. Building a config checks every value once, in the core, which keeps the
+checked config (``core``) for the batches made from it: ``TypeError`` for a key that is no
+setting or a wrong type, ``ValueError`` for a value out of range, each naming the key.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import difflib
 import inspect
 import operator
 from collections.abc import Callable, Iterable
@@ -20,7 +20,7 @@ from typing import Any
 from tactile_search import _core
 
 #: The core's settings table: one dict per setting (key, type, default, range, choices, doc).
-SETTINGS: tuple[dict[str, Any], ...] = tuple(_core.EpisodeBatch.settings())
+SETTINGS: tuple[dict[str, Any], ...] = tuple(_core.EpisodeConfig.settings())
 #: The map modes, as the core names them (``gpis``, ``occupancy``, ``none``).
 MAP_MODES: tuple[str, ...] = next(s["choices"] for s in SETTINGS if s["key"] == "map")
 #: The action modes, as the core names them (``wrist``, ``probe``).
@@ -41,14 +41,22 @@ def _plain(value: Any) -> bool:
 
 
 def _check(config: Any) -> None:
-    """Checks every value in the core; a value given as another kind of sequence or as a
-    numpy scalar (a list from YAML, an array, ``np.float32``) is replaced by the core's
-    reading of it, so that the frozen config stays hashable and equal to one built from
-    tuples and Python numbers."""
-    resolved = _core.EpisodeBatch.resolve_settings(**config.settings_dict())
-    for key, value in config.settings_dict().items():
-        if not _plain(value):
-            object.__setattr__(config, key, resolved[key])
+    """Checks every value once, in the core, and keeps the checked config as ``core``."""
+    given = config.settings_dict()
+    _keep(config, given, _core.EpisodeConfig(given, caller="CupboardSearchConfig"))
+
+
+def _keep(config: Any, given: dict[str, Any], core: _core.EpisodeConfig) -> None:
+    """Keeps ``core`` (the checked ``given`` settings) in ``config``; a value given as
+    another kind of sequence or as a numpy scalar (a list from YAML, an array,
+    ``np.float32``) is replaced by the core's reading of it, so that the frozen config stays
+    hashable and equal to one built from tuples and Python numbers."""
+    object.__setattr__(config, "core", core)
+    if not all(_plain(value) for value in given.values()):
+        resolved = core.as_dict()
+        for key, value in given.items():
+            if not _plain(value):
+                object.__setattr__(config, key, resolved[key])
 
 
 def settings_dict(self: Any) -> dict[str, Any]:
@@ -61,9 +69,10 @@ def scene_dict(self: Any) -> dict[str, Any]:
     return {key: value for key, value in self.settings_dict().items() if key in SCENE_KEYS}
 
 
-def make_batch(self: Any, seeds: list[int], threads: int | None = None) -> _core.EpisodeBatch:
-    """The Rust batch of episodes for these settings."""
-    return _core.EpisodeBatch(seeds, threads=threads, **self.settings_dict())
+def make_batch(self: Any, num_envs: int, threads: int | None = None) -> _core.EpisodeBatch:
+    """The Rust batch of ``num_envs`` episodes of these settings, none started (a reset
+    starts each)."""
+    return _core.EpisodeBatch(self.core, num_envs, threads=threads)
 
 
 CupboardSearchConfig = dataclasses.make_dataclass(
@@ -93,20 +102,16 @@ CupboardSearchConfig = dataclasses.make_dataclass(
 
 
 def config_for(owner: str, settings: dict[str, Any]) -> Any:
-    """``CupboardSearchConfig(**settings)`` for the class the user made (``owner``): a
-    keyword that is no setting is a ``TypeError`` naming ``owner`` and the closest
+    """``CupboardSearchConfig(**settings)`` for the class the user made (``owner``): the
+    core's ``TypeError`` for a keyword that is no setting names ``owner`` and the closest
     settings, not the config class the user never named."""
-    known = [s["key"] for s in SETTINGS]
-    for key in settings:
-        if key not in known:
-            close = difflib.get_close_matches(key, known, n=3)
-            hint = (
-                f"did you mean {' or '.join(repr(c) for c in close)}?"
-                if close
-                else f"the settings are {', '.join(known)}"
-            )
-            raise TypeError(f"{owner}() got an unexpected keyword argument {key!r}; {hint}")
-    return CupboardSearchConfig(**settings)
+    core = _core.EpisodeConfig(settings, caller=owner)
+    # The dataclass's fields without its __init__ (which would check them again).
+    config = object.__new__(CupboardSearchConfig)
+    for s in SETTINGS:
+        object.__setattr__(config, s["key"], settings.get(s["key"], s["default"]))
+    _keep(config, settings, core)
+    return config
 
 
 def checked_layout_seeds(layout_seeds: Any) -> tuple[int, int]:

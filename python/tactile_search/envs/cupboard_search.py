@@ -10,6 +10,7 @@ from gymnasium import spaces
 from gymnasium.error import ResetNeeded
 from gymnasium.utils import EzPickle
 
+from tactile_search import seed_ranges
 from tactile_search.envs.config import (
     CupboardSearchConfig,
     config_for,
@@ -18,6 +19,7 @@ from tactile_search.envs.config import (
 from tactile_search.envs.episode_reads import EpisodeReads
 from tactile_search.envs.observation import MAP_CHANNELS, fill_docstring
 from tactile_search.envs.time_limit import DeclaredTimeLimit
+from tactile_search.render import episode_frame
 
 
 def observation_space(config: CupboardSearchConfig, proprio_len: int) -> spaces.Dict:
@@ -179,7 +181,7 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.render_mode = render_mode
         self.config = config_for("CupboardSearchEnv", settings)
-        self._batch = self.config.make_batch([0], threads=threads)
+        self._batch = self.config.make_batch(1, threads=threads)
         self.observation_space = observation_space(self.config, self._batch.proprio_len)
         self.action_space = action_space(self._batch)
         # The episode so far, for pickling: its layout seed and the actions since its reset.
@@ -193,7 +195,7 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
         super().reset(seed=seed)
         # A given seed is the layout's seed (so reset(seed=s) here equals episode i of a
         # vector env reset with seed[i] = s); otherwise draw one from the env's generator.
-        episode_seed = seed if seed is not None else int(self.np_random.integers(0, 2**63))
+        episode_seed = seed if seed is not None else int(self.np_random.integers(*seed_ranges.ANY))
         self._batch.reset(0, episode_seed)
         self._episode_seed = episode_seed
         self._steps_taken = 0
@@ -249,9 +251,7 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
                 "render_mode='rgb_array' to get frames."
             )
             return None
-        from tactile_search.render import render_frame
-
-        return render_frame(self.render_state(), self.config.map)
+        return episode_frame(self._batch, self._episode_index)
 
 
 CupboardSearchEnv.__doc__ = fill_docstring(CupboardSearchEnv.__doc__ or "")

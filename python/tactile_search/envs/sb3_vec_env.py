@@ -6,11 +6,13 @@ last one in ``infos[i]["terminal_observation"]`` (with ``"TimeLimit.truncated"``
 the time limit ended it, and ``"is_success"``, which SB3 logs as ``rollout/success_rate``).
 This adapter gives the batch exactly those semantics, so SB3 trains on all cores:
 ``PPO("MultiInputPolicy", CupboardSearchSb3VecEnv(num_envs=8))``.
-The time limit is the core's (``max_steps``). The core writes each step's results into
-arrays allocated once per batch; this adapter copies the observation once per step (SB3
-keeps the previous step's observation while it takes the next) and builds SB3's per-env
-info dicts in Rust. ``render_mode="rgb_array"`` renders each episode's frame (SB3 tiles
-them; ``VecVideoRecorder`` records them). ``get_attr`` and ``env_method`` reach each
+The time limit is the core's (``max_steps``). A step is one call into the core
+(``EpisodeBatch.step_autoreset``): it steps every episode, starts the ended ones over on the
+next layout seeds and returns fresh observation arrays (SB3 keeps the previous step's
+observation while it takes the next) with SB3's per-env info dicts built in Rust. The
+layout seeds come from one generator, drawn in order as episodes end.
+``render_mode="rgb_array"`` renders each episode's frame (SB3 tiles them;
+``VecVideoRecorder`` records them). ``get_attr`` and ``env_method`` reach each
 episode as SB3 reaches a sub-env: ``env_method("reset", indices=[1])`` resets episode 1
 alone. The env pickles with its settings, generator and episodes so far. Needs the
 ``agents`` extra (stable-baselines3).
@@ -43,7 +45,8 @@ from tactile_search.envs.cupboard_search import (
     observation_space,
 )
 from tactile_search.envs.episode_log import EpisodeLog
-from tactile_search.envs.vector import episode_frame, observation_dict
+from tactile_search.envs.vector import SINGLE_ENV_LAYOUT_SEEDS, observation_dict
+from tactile_search.render import episode_frame
 
 
 class CupboardSearchSb3VecEnv(VecEnv):
@@ -65,7 +68,7 @@ class CupboardSearchSb3VecEnv(VecEnv):
         self,
         num_envs: int = 2,
         seed: int | None = None,
-        layout_seeds: tuple[int, int] = (0, 2**63),
+        layout_seeds: tuple[int, int] = SINGLE_ENV_LAYOUT_SEEDS,
         threads: int | None = None,
         render_mode: str | None = None,
         **kwargs: Any,
@@ -81,11 +84,16 @@ class CupboardSearchSb3VecEnv(VecEnv):
         self.layout_seeds = checked_layout_seeds(layout_seeds)
         self.config = config_for("CupboardSearchSb3VecEnv", kwargs)
         self._rng = np.random.default_rng(seed)
-        seeds = self._new_seeds(num_envs)
-        self._batch = self.config.make_batch(seeds, threads=threads)
+        # Seeds drawn from ``_rng`` but not yet used, in the order they were drawn: a step
+        # hands the core the next ``num_envs`` and takes off those its ended episodes used.
+        self._drawn_seeds: list[int] = []
+        # The generator's first num_envs draws are passed over: the adapter once started its
+        # episodes on them at construction, and skipping them keeps the layouts that a seed
+        # gives (and so a seed's training run) what they were.
+        self._new_seeds(num_envs)
+        self._batch = self.config.make_batch(num_envs, threads=threads)
         probe = self._batch.probe_counts is not None
         self._log = EpisodeLog(num_envs, np.int64 if probe else np.float64)
-        self._log.began(list(enumerate(seeds)))
         self.render_mode = render_mode
         self._sub_envs = [EpisodeView(self, index) for index in range(num_envs)]
         super().__init__(
@@ -95,12 +103,26 @@ class CupboardSearchSb3VecEnv(VecEnv):
         )
         self._actions: Any = np.zeros((num_envs, 3))
 
+    def _next_seeds(self, count: int) -> list[int]:
+        """The next ``count`` layout seeds of the generator, left unused (the generator's
+        draws in one call or several are the same stream)."""
+        if len(self._drawn_seeds) < count:
+            low, high = self.layout_seeds
+            draws = self._rng.integers(
+                low, high, size=count - len(self._drawn_seeds), dtype=np.uint64
+            )
+            self._drawn_seeds += [int(s) for s in draws]
+        return self._drawn_seeds[:count]
+
     def _new_seeds(self, count: int) -> list[int]:
-        low, high = self.layout_seeds
-        return [int(s) for s in self._rng.integers(low, high, size=count, dtype=np.uint64)]
+        """The next ``count`` layout seeds, used."""
+        seeds = self._next_seeds(count)
+        del self._drawn_seeds[:count]
+        return seeds
 
     def seed(self, seed: int | None = None) -> Sequence[int | None]:
         self._rng = np.random.default_rng(seed)
+        self._drawn_seeds = []
         return [seed] * self.num_envs
 
     def reset(self) -> dict[str, np.ndarray]:
@@ -120,24 +142,14 @@ class CupboardSearchSb3VecEnv(VecEnv):
         self._actions = actions  # checked once, by the core, in step_wait
 
     def step_wait(self) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, list[dict]]:
-        maps, proprio, rewards, terminated, truncated, _ = self._batch.step(self._actions)
+        observation, rewards, dones, infos = self._batch.step_autoreset(
+            self._actions, self._next_seeds(self.num_envs)
+        )
         self._log.stepped(self._actions)
-        dones = terminated | truncated
-        rewards = rewards.astype(np.float32)
-        infos = self._batch.infos()
         ended = np.flatnonzero(dones).tolist()
         if ended:
-            # The terminal rows first: the resets below overwrite them in the batch's arrays.
-            for index in ended:
-                terminal = {"proprio": proprio[index].copy()}
-                if maps is not None:
-                    terminal["map"] = maps[index].copy()
-                info = infos[index]
-                info["terminal_observation"] = terminal
-                info["TimeLimit.truncated"] = bool(truncated[index])
-                info["is_success"] = info["success"]
-            self._reset_episodes([(index, self._new_seeds(1)[0]) for index in ended])
-        return self._observation(), rewards, dones, infos
+            self._log.began(list(zip(ended, self._new_seeds(len(ended)), strict=True)))
+        return observation, rewards, dones, infos
 
     def close(self) -> None:
         pass
@@ -179,11 +191,15 @@ class CupboardSearchSb3VecEnv(VecEnv):
 
     # ---- pickling ----------------------------------------------------------------------
     def __getstate__(self) -> dict[str, Any]:
-        return {"arguments": self._arguments, "rng": self._rng, "log": self._log}
+        return {
+            "arguments": self._arguments, "rng": self._rng, "log": self._log,
+            "drawn_seeds": self._drawn_seeds,
+        }  # fmt: skip
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         self.__init__(**state["arguments"])  # type: ignore[misc]
         self._rng = state["rng"]
+        self._drawn_seeds = list(state.get("drawn_seeds", []))
         self._log = state["log"]
         self._log.replay(self._batch)
 
@@ -221,7 +237,7 @@ class EpisodeView:
         vec_env = self._vec_env
         if vec_env.render_mode is None:
             return None
-        return episode_frame(vec_env._batch, vec_env.config.map, self.index)
+        return episode_frame(vec_env._batch, self.index)
 
     def __getattr__(self, name: str) -> Any:
         if name == "_vec_env":  # not yet set (a copy being built)

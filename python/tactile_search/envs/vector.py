@@ -39,6 +39,7 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
+from tactile_search import seed_ranges
 from tactile_search.envs.config import (
     checked_layout_seeds,
     config_for,
@@ -48,22 +49,15 @@ from tactile_search.envs.cupboard_search import CupboardSearchEnv, action_space,
 from tactile_search.envs.episode_log import EpisodeLog
 from tactile_search.envs.sub_env import SubEnv
 from tactile_search.envs.time_limit import DeclaredTimeLimit
+from tactile_search.render import episode_frame
 
 #: The layout-seed range of ``gymnasium.make``'s env: its ``reset()`` draws from it.
-SINGLE_ENV_LAYOUT_SEEDS = (0, 2**63)
+SINGLE_ENV_LAYOUT_SEEDS = seed_ranges.ANY
 
 
 def observation_dict(maps: np.ndarray | None, proprio: np.ndarray) -> dict[str, np.ndarray]:
     """The observation dict of the batch's arrays (no ``map`` in the ``none`` mode)."""
     return {"proprio": proprio} if maps is None else {"proprio": proprio, "map": maps}
-
-
-def episode_frame(batch: Any, map_mode: str, index: int) -> np.ndarray:
-    """The ``rgb_array`` frame of episode ``index`` of ``batch`` (a ``_core.EpisodeBatch``):
-    the scene from above beside its ``map_mode`` map."""
-    from tactile_search.render import render_frame  # loaded only when rendering
-
-    return render_frame(batch.render_state(index), map_mode)
 
 
 def with_masks(
@@ -151,7 +145,7 @@ class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
         self.num_envs = num_envs
         self.copy = bool(copy)
         self.config = config_for("CupboardSearchVectorEnv", kwargs)
-        self._batch = self.config.make_batch(list(range(num_envs)), threads=threads)
+        self._batch = self.config.make_batch(num_envs, threads=threads)
         self.single_observation_space = observation_space(self.config, self._batch.proprio_len)
         self.single_action_space = action_space(self._batch)
         self.observation_space = batch_space(self.single_observation_space, num_envs)
@@ -191,7 +185,7 @@ class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
         """The next layout seed from sub-env ``index``'s generator (the single env's draw)."""
         low, high = self.layout_seeds
         # int64 draws while the range fits them (the single env's range does).
-        dtype = np.int64 if high <= 2**63 else np.uint64
+        dtype = np.int64 if high <= seed_ranges.ANY[1] else np.uint64
         return int(self._generator(index).integers(low, high, dtype=dtype))
 
     def _layout(self, index: int, seed: int | None) -> int:
@@ -359,7 +353,7 @@ class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
         mode; None without a render mode."""
         if self.render_mode is None:
             return None
-        return tuple(episode_frame(self._batch, self.config.map, i) for i in range(self.num_envs))
+        return tuple(episode_frame(self._batch, i) for i in range(self.num_envs))
 
     def sub_env(self, index: int) -> SubEnv:
         """Episode ``index`` with the single env's read-only methods (``envs/sub_env.py``)."""
