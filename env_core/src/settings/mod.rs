@@ -181,6 +181,31 @@ pub trait Settings: Default + 'static {
     }
 }
 
+impl<C: Settings> Checked<C> {
+    /// Checks `config`.
+    ///
+    /// # Cost
+    /// O(settings).
+    ///
+    /// # Errors
+    /// The first setting out of its range, or the first relation between settings broken,
+    /// named by its key ([`SettingError`]).
+    pub fn new(config: C) -> Result<Self, SettingError> {
+        config.check_settings()?;
+        Ok(Self::wrap(config))
+    }
+
+    /// The section `part` of this config, checked: a config's check covers its sections
+    /// (the `settings!` table lifts every section's settings and runs its relations), so
+    /// the section needs no check of its own.
+    ///
+    /// # Cost
+    /// One clone of the section.
+    pub fn section<S: Settings + Clone>(&self, part: impl FnOnce(&C) -> &S) -> Checked<S> {
+        Checked::wrap(part(self).clone())
+    }
+}
+
 /// Declares a config struct and its settings table at once.
 ///
 /// ```ignore
