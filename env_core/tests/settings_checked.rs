@@ -7,8 +7,10 @@ use env_core::settings::{Checked, SettingError};
 
 #[test]
 fn a_config_out_of_range_is_refused_by_its_key() {
-    let mut config = SceneConfig::default();
-    config.slice_height = -1.0;
+    let config = SceneConfig {
+        slice_height: -1.0,
+        ..SceneConfig::default()
+    };
     let error = Checked::new(config).unwrap_err();
     assert!(
         matches!(
