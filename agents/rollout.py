@@ -29,7 +29,8 @@ class Agent(Protocol):
     def reset(self, env: CupboardSearchEnv, observation: dict, info: dict) -> None: ...
 
     def act(self, observation: dict) -> np.ndarray:
-        """A float32 ``(3,)`` action in [-1, 1]."""
+        """The env's action: a float32 ``(3,)`` wrist motion in [-1, 1], or in the
+        ``probe`` action mode int64 ``(3,)`` probe indices."""
         ...
 
 

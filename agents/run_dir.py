@@ -321,7 +321,7 @@ def kept_progress(run_dir: Path, timesteps: int) -> tuple[list[str], list[str]] 
 
 
 def model_file(path: Path) -> Path:
-    """``path`` if it is a model file, else ``path/model.zip``; ``ValueError`` if neither is."""
+    """``path`` if it is a model file, else ``<path>/model.zip``; ``ValueError`` if neither is."""
     candidate = model_path(path) if path.is_dir() else path
     if not candidate.is_file():
         raise ValueError(

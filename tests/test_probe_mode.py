@@ -109,7 +109,6 @@ def test_the_vector_envs_step_probe_batches() -> None:
     [
         (np.array([29, 0, 0]), r"action\[0\] must be an integer from 0 to 28"),
         (np.array([0, 10, 0]), r"action\[1\] must be an integer from 0 to 9"),
-        (np.array([0.0, 1.5, 0.0]), r"action\[1\] must be an integer from 0 to 9"),
         (np.array([0, 0, -1]), r"action\[2\] must be an integer from 0 to 8"),
         (np.array([1, 2]), "shape"),
     ],
@@ -119,6 +118,18 @@ def test_bad_probe_indices_raise_value_error_naming_them(action: np.ndarray, mes
     env.reset(seed=1_000_000)
     with pytest.raises(ValueError, match=message):
         env.step(action)
+
+
+@pytest.mark.parametrize(
+    "action", [np.array([0.0, 1.0, 0.0]), [0.0, 1.5, 0.0], np.array([1.0, 2, 3])]
+)
+def test_probe_indices_cross_as_integers_and_floats_are_refused(action: object) -> None:
+    env = CupboardSearchEnv(action_mode="probe", map="none")
+    env.reset(seed=1_000_000)
+    with pytest.raises(TypeError, match="action must be integers in the probe action mode"):
+        env.step(action)
+    for integers in ([14, 3, 4], np.array([14, 3, 4], dtype=np.int32), np.array([14, 3, 4])):
+        env.step(integers)
 
 
 def test_bad_probe_settings_raise_naming_them() -> None:

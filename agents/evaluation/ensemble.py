@@ -90,4 +90,4 @@ class EnsembleAgent:
                 probabilities.append(distribution.distribution.probs)
             mean = torch.stack(probabilities).mean(dim=0)
             probe = distribution.actions_of(torch.argmax(mean, dim=1))
-        return probe.reshape(3).numpy().astype(np.float32)
+        return probe.reshape(3).numpy().astype(np.int64)

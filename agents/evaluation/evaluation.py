@@ -77,7 +77,7 @@ def prepare_evaluation(
     """What an evaluation of ``agent_specs`` on ``seeds`` into ``out`` starts from: each
     agent with its env settings (``make_agent``, then ``env_settings`` over them), their
     unique names (with the ``env_settings``' label), their fingerprints by spec, and the rows
-    of ``out/episodes.csv`` it reuses (none without ``resume``), by (name, seed);
+    of ``<out>/episodes.csv`` it reuses (none without ``resume``), by (name, seed);
     ``episodes.csv`` is rewritten to hold just those, agents as given, seeds ascending."""
     out.mkdir(parents=True, exist_ok=True)
     env_settings = checked_env_settings(env_settings)

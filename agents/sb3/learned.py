@@ -146,5 +146,8 @@ class LearnedAgent:
         return action
 
     def _predict(self, observation: dict) -> np.ndarray:
-        action = self._actions.predict(observation, deterministic=self.deterministic)
-        return np.asarray(action, dtype=np.float32).reshape(3)
+        action = np.asarray(
+            self._actions.predict(observation, deterministic=self.deterministic)
+        ).reshape(3)
+        # A wrist motion as float32; probe indices stay integers, as the env takes them.
+        return action.astype(np.float32) if action.dtype.kind == "f" else action.astype(np.int64)

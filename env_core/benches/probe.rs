@@ -39,7 +39,7 @@ impl Prober {
     /// One random probe; whether the episode ended.
     fn probe(&mut self) -> bool {
         let counts = self.episode.config().probe.counts();
-        let action = counts.map(|n| self.rng.random_range(0..n) as f64);
+        let action = counts.map(|n| self.rng.random_range(0..n) as i64);
         let info = self.episode.step(action).expect("probe");
         black_box(&info);
         info.terminated || info.truncated

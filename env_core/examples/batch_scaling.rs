@@ -15,7 +15,9 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use env_core::episode::{ActionMode, Command, EpisodeBatch, EpisodeConfig, MapMode, PROPRIO_LEN};
+use env_core::episode::{
+    Action, ActionMode, Command, EpisodeBatch, EpisodeConfig, MapMode, PROPRIO_LEN,
+};
 use env_core::settings::Checked;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -65,10 +67,12 @@ impl Stepper {
                     return Command::Reset(self.next_seed);
                 }
                 Command::Step(match self.action_mode {
-                    ActionMode::Wrist => [0; 3].map(|_| self.rng.random_range(-1.0..1.0)),
-                    ActionMode::Probe => {
-                        [0, 1, 2].map(|k| self.rng.random_range(0..self.counts[k]) as f64)
+                    ActionMode::Wrist => {
+                        Action::Wrist([0; 3].map(|_| self.rng.random_range(-1.0..1.0)))
                     }
+                    ActionMode::Probe => Action::Probe(
+                        [0, 1, 2].map(|k| self.rng.random_range(0..self.counts[k]) as i64),
+                    ),
                 })
             })
             .collect();

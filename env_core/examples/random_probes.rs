@@ -37,7 +37,7 @@ fn main() {
     let (mut commands, mut carried) = (0u64, 0u64);
     for _ in 0..probes {
         let counts = episode.config().probe.counts();
-        let action = counts.map(|n| rng.random_range(0..n) as f64);
+        let action = counts.map(|n| rng.random_range(0..n) as i64);
         let info = episode.step(action).expect("probe");
         contacts += info.contacts;
         rows += info.rows_added;

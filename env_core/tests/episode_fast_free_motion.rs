@@ -35,8 +35,8 @@ fn config(map: MapMode, fast: bool) -> EpisodeConfig {
     config
 }
 
-fn random_probe(rng: &mut ChaCha8Rng, counts: [usize; 3]) -> [f64; 3] {
-    counts.map(|n| rng.random_range(0..n) as f64)
+fn random_probe(rng: &mut ChaCha8Rng, counts: [usize; 3]) -> [i64; 3] {
+    counts.map(|n| rng.random_range(0..n) as i64)
 }
 
 fn pose_bits(pose: HandPose) -> [u64; 3] {

@@ -31,8 +31,8 @@ fn controller(config: &EpisodeConfig) -> ProbeController {
     )
 }
 
-fn random_probe(rng: &mut ChaCha8Rng, counts: [usize; 3]) -> [f64; 3] {
-    counts.map(|n| rng.random_range(0..n) as f64)
+fn random_probe(rng: &mut ChaCha8Rng, counts: [usize; 3]) -> [i64; 3] {
+    counts.map(|n| rng.random_range(0..n) as i64)
 }
 
 #[test]
@@ -155,12 +155,11 @@ fn a_probe_into_a_jar_stops_at_the_touch_and_a_deeper_one_does_not_push_it() {
             .unwrap();
         let lane = (0..lanes)
             .min_by(|&a, &b| {
-                let x =
-                    |i: usize| (control.probe(&[i as f64, 0.0, 0.0]).x - front.position[0]).abs();
+                let x = |i: usize| (control.probe(&[i as i64, 0, 0]).x - front.position[0]).abs();
                 x(a).total_cmp(&x(b))
             })
             .unwrap();
-        let action = [lane as f64, (depths - 1) as f64, (sweeps / 2) as f64];
+        let action = [lane as i64, (depths - 1) as i64, (sweeps / 2) as i64];
         let info = episode.step(action).unwrap();
         let goal = control.probe(&action);
         if info.contacts > 0 && episode.scene().hand_pose().y < goal.y - 1e-6 {
@@ -187,14 +186,14 @@ fn probe_indices_out_of_their_counts_move_no_episode_of_a_batch() {
     .unwrap();
     let mut proprio = vec![0f32; 2 * PROPRIO_LEN];
     for (bad, message) in [
-        ([3.0, 29.0, 0.0], "action[1] must be an integer from 0 to 9"),
-        ([3.0, 1.0, 0.5], "action[2] must be an integer from 0 to 8"),
-        (
-            [-1.0, 1.0, 0.0],
-            "action[0] must be an integer from 0 to 28",
-        ),
+        ([3, 29, 0], "action[1] must be an integer from 0 to 9"),
+        ([3, 1, 9], "action[2] must be an integer from 0 to 8"),
+        ([-1, 1, 0], "action[0] must be an integer from 0 to 28"),
     ] {
-        let commands = [Command::Step([14.0, 5.0, 4.0]), Command::Step(bad)];
+        let commands = [
+            Command::Step([14i64, 5, 4].into()),
+            Command::Step(bad.into()),
+        ];
         let error = batch.run(&commands, &mut [], &mut proprio).unwrap_err();
         assert!(
             matches!(error, EpisodeError::InEpisode { index: 1, .. }),

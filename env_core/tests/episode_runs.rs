@@ -154,7 +154,11 @@ fn the_batch_equals_single_episodes_whatever_the_thread_count() {
                     .iter()
                     .map(|e| oracle_action(e).map(|v| 0.7 * v))
                     .collect();
-                let commands: Vec<_> = actions.iter().copied().map(Command::Step).collect();
+                let commands: Vec<_> = actions
+                    .iter()
+                    .copied()
+                    .map(|action| Command::Step(action.into()))
+                    .collect();
                 let outcome = batch.run(&commands, &mut maps, &mut proprio);
                 let mut failed = false;
                 for (i, episode) in singles.iter_mut().enumerate() {
@@ -192,7 +196,7 @@ fn a_batch_leaves_held_episodes_untouched_and_resets_only_those_it_is_told_to() 
     batch.write_observations(&mut maps, &mut proprio).unwrap();
     let held = maps[map_len..2 * map_len].to_vec();
     let commands = [
-        Command::Step([1.0, 1.0, 0.0]),
+        Command::Step([1.0, 1.0, 0.0].into()),
         Command::Hold,
         Command::Reset(9),
     ];
@@ -216,8 +220,8 @@ fn a_non_finite_action_in_a_batch_moves_no_episode() {
     .unwrap();
     let mut proprio = vec![0f32; 2 * PROPRIO_LEN];
     let commands = [
-        Command::Step([0.5, 0.5, 0.0]),
-        Command::Step([0.0, f64::NAN, 0.0]),
+        Command::Step([0.5, 0.5, 0.0].into()),
+        Command::Step([0.0, f64::NAN, 0.0].into()),
     ];
     let error = batch.run(&commands, &mut [], &mut proprio).unwrap_err();
     assert!(
@@ -314,7 +318,7 @@ fn a_new_batch_starts_no_episode() {
     let mut proprio = vec![0f32; 2 * PROPRIO_LEN];
     let error = batch
         .run(
-            &[Command::Step([0.0; 3]), Command::Hold],
+            &[Command::Step([0.0; 3].into()), Command::Hold],
             &mut [],
             &mut proprio,
         )

@@ -186,7 +186,7 @@ pub(super) fn probe_motions<'py>(
     let from = HandPose { x, y, yaw };
     let mut motions = Vec::with_capacity(shape[0]);
     for row in values.chunks_exact(3) {
-        let action = [row[0] as f64, row[1] as f64, row[2] as f64];
+        let action = [row[0], row[1], row[2]];
         controller.check(&action)?;
         motions.push(controller.motions(from, &controller.probe(&action)) as i64);
     }

@@ -13,7 +13,7 @@ use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use super::actions::action_rows;
+use super::actions::actions_of;
 use super::batch_arrays::BatchArrays;
 use super::convert::{count_of, seed_of, threads_of};
 use super::decode::{geometry_dict, map_dict, probe_motions, proprio_dict};
@@ -215,10 +215,11 @@ impl PyEpisodeBatch {
         Bound<'py, PyDict>,
     )> {
         let n = self.num_envs;
-        let mut commands: Vec<Command> = action_rows("actions", actions, &[n, 3])?
-            .into_iter()
-            .map(Command::Step)
-            .collect();
+        let mut commands: Vec<Command> =
+            actions_of("actions", actions, &[n, 3], self.config.action_mode)?
+                .into_iter()
+                .map(Command::Step)
+                .collect();
         let mut state = self.state.lock()?;
         if let Some(resets) = resets {
             state.set_resets(&mut commands, resets)?;
@@ -254,10 +255,11 @@ impl PyEpisodeBatch {
         Bound<'py, PyList>,
     )> {
         let n = self.num_envs;
-        let commands: Vec<Command> = action_rows("actions", actions, &[n, 3])?
-            .into_iter()
-            .map(Command::Step)
-            .collect();
+        let commands: Vec<Command> =
+            actions_of("actions", actions, &[n, 3], self.config.action_mode)?
+                .into_iter()
+                .map(Command::Step)
+                .collect();
         let seeds: Vec<u64> = seeds
             .try_iter()
             .map_err(|_| wrong_type("seeds", "a sequence of ints", seeds))?
@@ -326,7 +328,7 @@ impl PyEpisodeBatch {
                 format!("{} episodes", self.num_envs),
             ));
         }
-        let rows = action_rows("action", action, &[3])?;
+        let rows = actions_of("action", action, &[3], self.config.action_mode)?;
         let commands = [Command::Step(rows[0])];
         let mut state = self.state.lock()?;
         let state = &mut *state;

@@ -35,6 +35,7 @@ use std::time::{Duration, Instant};
 use crossbeam_utils::Backoff;
 use rayon::{ThreadPool, ThreadPoolBuilder};
 
+use super::action_mode::Action;
 use super::config::EpisodeConfig;
 use super::episode::Episode;
 use super::error::EpisodeError;
@@ -47,7 +48,7 @@ use crate::settings::Checked;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Command {
     /// Step with this action (see [`Episode::step`]).
-    Step([f64; 3]),
+    Step(Action),
     /// Start the episode of this seed (the vector environment's autoreset).
     Reset(u64),
     /// Leave the episode and its observation rows untouched.
@@ -578,9 +579,11 @@ mod tests {
                     0 => Command::Reset(10 * round + i as u64),
                     1 => Command::Hold,
                     _ => Command::Step(match action_mode {
-                        ActionMode::Wrist => [0; 3].map(|_| rng.random_range(-1.0..1.0)),
+                        ActionMode::Wrist => {
+                            Action::Wrist([0; 3].map(|_| rng.random_range(-1.0..1.0)))
+                        }
                         ActionMode::Probe => {
-                            [0, 1, 2].map(|k| rng.random_range(0..counts[k]) as f64)
+                            Action::Probe([0, 1, 2].map(|k| rng.random_range(0..counts[k]) as i64))
                         }
                     }),
                 })
@@ -639,7 +642,7 @@ mod tests {
                 .iter()
                 .map(|e| match e.last_info().terminated {
                     true => Command::Hold,
-                    false => Command::Step(oracle_action(e)),
+                    false => Command::Step(oracle_action(e).into()),
                 })
                 .collect();
             batch.run(&commands, &mut [], &mut proprio).unwrap();
@@ -649,7 +652,7 @@ mod tests {
         // Step every ended episode (each fails) and reset the last episode (queued first).
         let commands: Vec<Command> = (0..n)
             .map(|i| match i {
-                _ if ended.contains(&i) => Command::Step([0.0; 3]),
+                _ if ended.contains(&i) => Command::Step([0.0; 3].into()),
                 _ if i == n - 1 => Command::Reset(77),
                 _ => Command::Hold,
             })

@@ -11,7 +11,7 @@
 
 use std::sync::Arc;
 
-use super::action_mode::ActionMode;
+use super::action_mode::{Action, ActionMode};
 use super::approach::{fingertip, ApproachField};
 use super::config::EpisodeConfig;
 use super::error::EpisodeError;
@@ -24,7 +24,7 @@ use super::probe::{Phase, ProbeController};
 use super::step_info::StepInfo;
 use crate::gpis::{run_each, Gpis, GridSpec, SerialTiles, TileRunner};
 use crate::scene::{Contact, HandCommand, Scene, SceneConfig};
-use crate::settings::Checked;
+use crate::settings::{Checked, Choice};
 
 /// The target's footprint widened by this much counts as reached by the approach field, m.
 const APPROACH_CLEARANCE: f64 = 0.01;
@@ -270,29 +270,37 @@ impl Episode {
         }
     }
 
-    /// Takes one step. In the `wrist` action mode `action` is in [−1, 1]³ (dx, dy, dyaw),
-    /// scaled by the hand's `max_step_translation` and `max_step_yaw`; components outside
-    /// are clipped (and reported). In the `probe` mode it is the (lane, depth, sweep)
-    /// indices of a probe. Fails on a non-finite action, a probe index out of its count,
-    /// or after the episode has ended.
-    pub fn step(&mut self, action: [f64; 3]) -> Result<StepInfo, EpisodeError> {
+    /// Takes one step. In the `wrist` action mode `action` is a wrist motion in [−1, 1]³
+    /// (dx, dy, dyaw; `[f64; 3]` converts to one), scaled by the hand's
+    /// `max_step_translation` and `max_step_yaw`; components outside are clipped (and
+    /// reported). In the `probe` mode it is the (lane, depth, sweep) indices of a probe
+    /// (`[i64; 3]` converts to one).
+    ///
+    /// # Errors
+    /// An action of the other mode, a non-finite motion, a probe index out of its count;
+    /// a step before the first reset or after the episode has ended.
+    pub fn step(&mut self, action: impl Into<Action>) -> Result<StepInfo, EpisodeError> {
+        let action = action.into();
         self.check_action(&action)?;
         self.advance(action)
     }
 
-    /// Fails on a non-finite action, or in the `probe` mode on an index that is not an
-    /// integer within its count.
-    pub(crate) fn check_action(&self, action: &[f64; 3]) -> Result<(), EpisodeError> {
-        check_finite(action)?;
-        match self.config.action_mode {
-            ActionMode::Wrist => Ok(()),
-            ActionMode::Probe => self.probes.check(action),
+    /// Fails on an action of the other mode, a non-finite motion, or a probe index
+    /// outside its count.
+    pub(crate) fn check_action(&self, action: &Action) -> Result<(), EpisodeError> {
+        match (action, self.config.action_mode) {
+            (Action::Wrist(motion), ActionMode::Wrist) => check_finite(motion),
+            (Action::Probe(indices), ActionMode::Probe) => self.probes.check(indices),
+            (action, mode) => Err(EpisodeError::WrongActionMode {
+                expected: mode.name(),
+                got: action.mode().name(),
+            }),
         }
     }
 
     /// [`Episode::step`] for an action already checked (the batch checks all of its
     /// actions once, before stepping any).
-    pub(crate) fn advance(&mut self, action: [f64; 3]) -> Result<StepInfo, EpisodeError> {
+    pub(crate) fn advance(&mut self, action: Action) -> Result<StepInfo, EpisodeError> {
         if self.scene.is_none() {
             return Err(EpisodeError::NotReset);
         }
@@ -300,9 +308,9 @@ impl Episode {
             return Err(EpisodeError::Ended);
         }
         self.last_motions.clear();
-        let mut info = match self.config.action_mode {
-            ActionMode::Wrist => self.move_wrist(action)?,
-            ActionMode::Probe => self.probe(action)?,
+        let mut info = match action {
+            Action::Wrist(motion) => self.move_wrist(motion)?,
+            Action::Probe(indices) => self.probe(indices)?,
         };
         info.iou = self.current_iou();
         self.last_info = info;
@@ -315,8 +323,8 @@ impl Episode {
     /// ends. A probe that makes no motion (already there, or pressing on a touch) waits a
     /// step. The reward terms and the counts of readings and rows are summed over the
     /// motions; the rest is the last motion's.
-    fn probe(&mut self, action: [f64; 3]) -> Result<StepInfo, EpisodeError> {
-        let probe = self.probes.probe(&action);
+    fn probe(&mut self, indices: [i64; 3]) -> Result<StepInfo, EpisodeError> {
+        let probe = self.probes.probe(&indices);
         let mut total = StepInfo::default();
         let mut touching = !self.scene().contacts().is_empty();
         loop {

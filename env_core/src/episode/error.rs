@@ -35,9 +35,18 @@ pub enum EpisodeError {
         /// Component index (0 = lane, 1 = depth, 2 = sweep).
         index: usize,
         /// Value given.
-        value: f64,
+        value: i64,
         /// The component's count (probe_lanes, probe_depths or probe_sweeps).
         count: usize,
+    },
+    /// An action of the other action mode (a wrist motion in the `probe` mode or a probe in
+    /// the `wrist` mode).
+    #[error("action must be a {expected} action (the episode's action_mode), got a {got} one")]
+    WrongActionMode {
+        /// The episode's mode.
+        expected: &'static str,
+        /// The action's mode.
+        got: &'static str,
     },
     /// `step` was called on an episode that no reset has started.
     #[error("the episode has not started; call reset() before stepping")]

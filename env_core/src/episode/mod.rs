@@ -38,7 +38,7 @@ pub mod shared_tiles;
 pub mod static_geometry;
 pub mod step_info;
 
-pub use action_mode::ActionMode;
+pub use action_mode::{Action, ActionMode};
 pub use batch::{Command, EpisodeBatch};
 pub use config::{EpisodeConfig, RewardConfig};
 pub use episode::Episode;

@@ -143,9 +143,9 @@ impl ProbeController {
     }
 
     /// Checks that `action` holds three indices within the counts.
-    pub fn check(&self, action: &[f64; 3]) -> Result<(), EpisodeError> {
+    pub fn check(&self, action: &[i64; 3]) -> Result<(), EpisodeError> {
         for (index, (&value, count)) in action.iter().zip(self.config.counts()).enumerate() {
-            if value.fract() != 0.0 || value < 0.0 || value >= count as f64 {
+            if usize::try_from(value).map_or(true, |v| v >= count) {
                 return Err(EpisodeError::ProbeIndex {
                     index,
                     value,
@@ -157,8 +157,8 @@ impl ProbeController {
     }
 
     /// The probe an action (checked by [`ProbeController::check`]) names.
-    pub fn probe(&self, action: &[f64; 3]) -> Probe {
-        let [lane, depth, sweep] = action.map(|v| v as usize);
+    pub fn probe(&self, action: &[i64; 3]) -> Probe {
+        let [lane, depth, sweep] = action.map(|v| usize::try_from(v).unwrap_or(0));
         Probe {
             x: self.lane(lane),
             y: self.depth(depth),
@@ -267,13 +267,13 @@ mod tests {
     #[test]
     fn probes_span_the_opening_and_the_depth_symmetrically() {
         let c = controller();
-        let first = c.probe(&[0.0, 0.0, 0.0]);
-        let last = c.probe(&[28.0, 9.0, 8.0]);
+        let first = c.probe(&[0, 0, 0]);
+        let last = c.probe(&[28, 9, 8]);
         assert!((first.x + last.x).abs() < 1e-12 && last.x > 0.25);
         assert_eq!(first.y, 0.0);
         assert!((first.yaw - 1.0).abs() < 1e-12 && (last.yaw + 1.0).abs() < 1e-12);
-        assert_eq!(c.probe(&[14.0, 0.0, 4.0]).x, 0.0);
-        assert_eq!(c.probe(&[14.0, 0.0, 4.0]).yaw, 0.0);
+        assert_eq!(c.probe(&[14, 0, 4]).x, 0.0);
+        assert_eq!(c.probe(&[14, 0, 4]).yaw, 0.0);
     }
 
     #[test]
@@ -288,7 +288,7 @@ mod tests {
         for (lane, &x) in grid.lanes.iter().enumerate() {
             for (depth, &y) in grid.depths.iter().enumerate() {
                 for (sweep, &yaw) in grid.yaws.iter().enumerate() {
-                    let probe = c.probe(&[lane as f64, depth as f64, sweep as f64]);
+                    let probe = c.probe(&[lane as i64, depth as i64, sweep as i64]);
                     assert_eq!(probe, Probe { x, y, yaw });
                 }
             }
@@ -298,10 +298,10 @@ mod tests {
     }
 
     #[test]
-    fn indices_outside_the_counts_or_fractional_are_refused() {
+    fn indices_outside_the_counts_are_refused() {
         let c = controller();
-        assert!(c.check(&[28.0, 9.0, 8.0]).is_ok());
-        for bad in [[29.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 0.5]] {
+        assert!(c.check(&[28, 9, 8]).is_ok());
+        for bad in [[29, 0, 0], [0, -1, 0], [0, 0, 9]] {
             assert!(matches!(
                 c.check(&bad),
                 Err(EpisodeError::ProbeIndex { .. })
@@ -312,7 +312,7 @@ mod tests {
     #[test]
     fn a_lane_change_turns_back_then_retreats_then_shifts_then_enters_then_sweeps() {
         let c = controller();
-        let probe = c.probe(&[20.0, 5.0, 0.0]);
+        let probe = c.probe(&[20, 5, 0]);
         let mut pose = HandPose {
             x: 0.0,
             y: 0.1,
@@ -348,12 +348,12 @@ mod tests {
             yaw: hand.start[2],
         };
         // Straight in from the start (y -0.125) to the opening (y 0) at 0.01 per motion.
-        assert_eq!(c.motions(start, &c.probe(&[14.0, 0.0, 4.0])), 13);
+        assert_eq!(c.motions(start, &c.probe(&[14, 0, 4])), 13);
         // Then the widest sweep, 1 rad at 0.05 per motion.
         let there = HandPose { y: 0.0, ..start };
-        assert_eq!(c.motions(there, &c.probe(&[14.0, 0.0, 0.0])), 20);
+        assert_eq!(c.motions(there, &c.probe(&[14, 0, 0])), 20);
         // A lane change counts every phase, as the stepped loop makes them.
-        let probe = c.probe(&[20.0, 5.0, 0.0]);
+        let probe = c.probe(&[20, 5, 0]);
         let mut pose = HandPose {
             x: 0.0,
             y: 0.1,
@@ -379,7 +379,7 @@ mod tests {
     #[test]
     fn the_same_lane_goes_straight_to_the_new_depth() {
         let c = controller();
-        let probe = c.probe(&[14.0, 2.0, 4.0]);
+        let probe = c.probe(&[14, 2, 4]);
         let pose = HandPose {
             x: 0.0,
             y: 0.15,

@@ -186,7 +186,10 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
         self.action_space = action_space(self._batch)
         # The episode so far, for pickling: its layout seed and the actions since its reset.
         self._episode_seed: int | None = None
-        self._actions = np.empty((0, 3))
+        # As the core steps them: float64 wrist motions (a float32 action replays exactly),
+        # int64 probe indices.
+        probe = self._batch.probe_counts is not None
+        self._actions = np.empty((0, 3), dtype=np.int64 if probe else np.float64)
         self._steps_taken = 0
 
     def reset(
@@ -204,11 +207,11 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
     def step(self, action: Any) -> tuple[dict, float, bool, bool, dict]:
         if self._episode_seed is None:
             raise ResetNeeded("CupboardSearchEnv: call reset() before step()")
-        # One call: the core checks the action once (shape (3,), finite; ValueError naming
-        # what came) and returns fresh observation arrays and an info dict of scalars.
+        # One call: the core checks the action once (shape (3,); finite motions, integer
+        # probe indices within their counts; TypeError or ValueError naming what came) and
+        # returns fresh observation arrays and an info dict of scalars.
         result = self._batch.step_single(action)
-        # Kept for pickling, as float64 (the core steps in float64: a float32 action
-        # replays exactly); ~1 us.
+        # Kept for pickling.
         if self._steps_taken == len(self._actions):
             self._grow_actions()
         self._actions[self._steps_taken] = action
@@ -217,7 +220,7 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
 
     def _grow_actions(self) -> None:
         """Doubles the storage of the episode's actions."""
-        grown = np.empty((max(2 * len(self._actions), 64), 3))
+        grown = np.empty((max(2 * len(self._actions), 64), 3), dtype=self._actions.dtype)
         grown[: self._steps_taken] = self._actions[: self._steps_taken]
         self._actions = grown
 
@@ -232,7 +235,7 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
         state = dict(state)
         np_random = state.pop("np_random", None)
         episode_seed = state.pop("episode_seed", None)
-        actions = state.pop("actions", np.empty((0, 3)))
+        actions = state.pop("actions", ())
         EzPickle.__setstate__(self, state)
         self._np_random = np_random
         if episode_seed is not None:
