@@ -31,7 +31,6 @@ pub mod observation;
 pub mod oracle;
 pub mod outline;
 pub mod probe;
-pub mod shared_tiles;
 pub mod static_geometry;
 pub mod step_info;
 

@@ -19,4 +19,4 @@ pub use grid::GridSpec;
 pub use kernel::{RowKind, ThinPlateKernel};
 pub use map::{AddReport, Gpis, GpisConfig, GpisDefaults, Prediction, GPIS_DEFAULTS};
 pub use observation::{Observation, Row};
-pub use tiles::{run_each, SerialTiles, TileRunner};
+pub use tiles::{run_each, PoolTiles, SerialTiles, TileRunner};
