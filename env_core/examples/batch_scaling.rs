@@ -90,6 +90,8 @@ fn mean(times: &[Duration]) -> Duration {
 }
 
 fn main() {
+    // The options the Python module sets when it is imported.
+    env_core::allocator::configure();
     let rounds: usize = std::env::args()
         .nth(1)
         .map(|a| a.parse().expect("the number of rounds"))
