@@ -85,7 +85,7 @@ def live_heap_bytes() -> int:
     """Bytes the program holds from its allocators now: glibc's ``mallinfo2`` (summed over
     every arena) in-use chunks ``uordblks`` plus directly mmapped blocks ``hblkhd``, plus the
     Rust core's live blocks, which its own allocator counts (``_core.allocated_bytes()``:
-    mimalloc's small blocks and the maps of 1 MiB or more, none of which glibc sees); -1
+    the core's blocks come from mimalloc, which glibc does not see); -1
     without glibc. Unlike RSS it does not count free memory an allocator keeps or cannot
     return (fragmentation), so growth here is memory still referenced: a leak. It covers
     the Rust core, numpy's buffers and Python's large objects; Python's small objects live

@@ -1,6 +1,6 @@
 //! How much a second core speeds up [`EpisodeBatch::run`], with no Python in the loop, and
-//! what a sleeping helper thread costs to wake (the reason the batch keeps its helpers
-//! warm, `env_core/src/episode/batch.rs`):
+//! what a sleeping rayon worker costs to wake (each run hands its tasks to the batch's
+//! pool, whose workers sleep between runs, `env_core/src/episode/batch.rs`):
 //!
 //! `cargo run --release -p env_core --example batch_scaling [rounds]`
 //!
@@ -96,6 +96,8 @@ fn mean(times: &[Duration]) -> Duration {
 }
 
 fn main() {
+    // The options the Python module sets when it is imported.
+    env_core::allocator::configure();
     let rounds: usize = std::env::args()
         .nth(1)
         .map(|a| a.parse().expect("the number of rounds"))

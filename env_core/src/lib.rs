@@ -8,8 +8,8 @@
 //!   the scene and episode configs declare once and everything else reads.
 //! - [`episode`]: mechanical-search episodes (map from depth and touch, reward, episode end)
 //!   and a batch of them stepped in parallel.
-//! - [`allocator`]: the global allocator (mimalloc, with big blocks mapped and returned to
-//!   the system when freed, so resident memory stays flat; it counts the bytes it holds).
+//! - [`allocator`]: the global allocator (mimalloc, its options, and a count of the bytes
+//!   the core holds).
 //!
 //! The pyo3 bindings live in the `bindings` module behind the `python` cargo feature, so that
 //! `cargo test` builds and runs without a Python interpreter.

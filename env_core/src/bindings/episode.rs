@@ -518,8 +518,8 @@ impl PyEpisodeBatch {
         Ok(self.state.lock()?.parallel_seconds)
     }
 
-    /// The threads the batch runs its episodes on: the calling thread and its helpers
-    /// (more than the episodes only to share resets' grid updates, up to the cores).
+    /// The threads the batch runs its episodes on: its pool's workers, or the calling thread
+    /// alone (more than the episodes only to share resets' grid updates, up to the cores).
     #[getter]
     fn threads(&self) -> PyResult<usize> {
         Ok(self.state.lock()?.inner.threads())

@@ -32,15 +32,8 @@ mod step_info;
 
 use pyo3::prelude::*;
 
-/// Bytes of the core's blocks of at least 1 MiB, which its allocator maps directly and
-/// returns to the system when they are freed (`env_core::allocator`).
-#[pyfunction]
-fn direct_mapped_bytes() -> usize {
-    crate::allocator::direct_mapped_bytes()
-}
-
-/// Bytes the core holds now, every live block of its allocator (mimalloc's and the mapped
-/// ones; `env_core::allocator`): glibc's `mallinfo2` counts none of them.
+/// Bytes the core holds now, every live block of its allocator (`env_core::allocator`):
+/// glibc's `mallinfo2` counts none of them.
 #[pyfunction]
 fn allocated_bytes() -> usize {
     crate::allocator::allocated_bytes()
@@ -50,6 +43,7 @@ fn allocated_bytes() -> usize {
 #[pymodule]
 #[pyo3(name = "_core")]
 fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    crate::allocator::configure();
     m.add_class::<gpis::PyGpis>()?;
     m.add_function(wrap_pyfunction!(gpis::gpis_defaults, m)?)?;
     m.add_class::<scene::PyScene>()?;
@@ -59,7 +53,6 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     prior::register(m)?;
     m.add_function(wrap_pyfunction!(observation::observation_layout, m)?)?;
     m.add_function(wrap_pyfunction!(step_info::step_info_fields, m)?)?;
-    m.add_function(wrap_pyfunction!(direct_mapped_bytes, m)?)?;
     m.add_function(wrap_pyfunction!(allocated_bytes, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -1,38 +1,25 @@
 //! A batch of episodes stepped in parallel: the core of the vector environments.
 //!
 //! One call to [`EpisodeBatch::run`] gives each episode a [`Command`] (step with an action,
-//! reset to a seed, or hold) and carries them out on the calling thread and the batch's own
-//! helper threads (a rayon pool of `threads - 1`, kept alive: spawning threads every call
-//! would cost as much as a step). The calling thread works too, from the first task. A
-//! thread that sleeps costs a wake-up to start again: 70-200 µs on a virtual machine, whose
-//! idle core halts (`cargo run --release -p env_core --example batch_scaling` measures it),
-//! against about 60 µs of work per episode in a wrist-mode step. So threads spin before
-//! they sleep, the wait policy of OpenMP runtimes: the calling thread spins (then yields)
-//! for the helpers' last tasks, for at most [`CALLER_SPIN`], and after a run each helper
-//! stays awake for [`HELPER_WARM`] (a spinning job in its pool) to take the next run's tasks
-//! at once; past that it sleeps, so an idle batch costs no CPU. The tasks, one per episode
-//! that steps or resets, are taken one at a time from a shared queue, resets first (then
-//! the calling thread takes steps from its front and the helpers from its back, so that an
-//! episode tends to stay on one thread and in its core's cache): a reset costs as much as
-//! about 150 wrist steps, so one started last would leave the other threads idle while it
-//! runs alone. Even first, a reset outlasts the other threads' share
-//! of a wrist-mode step; so the episodes share one job board ([`SharedTiles`]), and a
-//! thread with no task left helps with the tiles of cells of a grid update still running
-//! on another (the bulk of a GPIS reset) before it waits. Each task writes its episode's
-//! observation straight into that episode's rows of the caller's buffers (in the bindings:
-//! numpy arrays allocated once per batch), so nothing is staged or copied and results do
-//! not depend on the thread count or on which thread ran what.
-//! [`EpisodeBatch::write_result`] then writes rewards, flags and infos as columns
+//! reset to a seed, or hold) and carries them out on the batch's own rayon pool of
+//! `threads` workers, kept alive (spawning threads every call would cost as much as a
+//! step); the calling thread waits meanwhile. The tasks, one per episode that steps or
+//! resets, are a parallel iterator, resets first: a reset costs as much as about 150 wrist
+//! steps, so one started last would leave the other threads idle while it runs alone.
+//! Even first, a reset outlasts the other threads' share of a wrist-mode step; so each
+//! episode's grid updates and a reset's two pieces are parallel iterators too
+//! ([`PoolTiles`]), which a worker with no episode left steals from the one resetting.
+//! Each task writes its episode's observation straight into that episode's rows of the
+//! caller's buffers (in the bindings: numpy arrays allocated once per batch), so nothing is
+//! staged or copied and results do not depend on the thread count or on which thread ran
+//! what. [`EpisodeBatch::write_result`] then writes rewards, flags and infos as columns
 //! (O(info fields) per episode, on the calling thread).
 
-use std::collections::VecDeque;
 use std::num::NonZeroUsize;
-use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::Arc;
 use std::thread;
-use std::time::{Duration, Instant};
 
-use crossbeam_utils::Backoff;
+use rayon::prelude::*;
 use rayon::{ThreadPool, ThreadPoolBuilder};
 
 use super::action_mode::Action;
@@ -40,8 +27,8 @@ use super::config::EpisodeConfig;
 use super::episode::Episode;
 use super::error::EpisodeError;
 use super::observation::PROPRIO_LEN;
-use super::shared_tiles::SharedTiles;
 use super::step_info::InfoColumns;
+use crate::gpis::PoolTiles;
 use crate::settings::Checked;
 
 /// What [`EpisodeBatch::run`] does with one episode.
@@ -55,72 +42,34 @@ pub enum Command {
     Hold,
 }
 
-/// How long a helper thread stays awake after a run for the next one: longer than the gap
-/// between two steps of a vector environment stepped in a loop (its serial part, ~0.1 ms),
-/// short enough that a batch waiting on a learner burns little of its core.
-pub const HELPER_WARM: Duration = Duration::from_millis(1);
-
-/// How long a thread with no task left spins (then yields) for the others' last tasks, and
-/// for a grid update of theirs to help with, before it sleeps until they are done: longer
-/// than a wrist-mode task (~60 µs), far shorter than a scheduler's time slice. Unbounded, a
-/// caller spinning on a loaded machine kept its core busy while the helper it waited for
-/// queued for the other one (the soak saw wrist steps 20-80x slower while two trainings
-/// ran); a sleeping caller's core takes the helper instead.
-pub const CALLER_SPIN: Duration = Duration::from_micros(200);
-
 /// N episodes with the same configuration.
 pub struct EpisodeBatch {
     episodes: Vec<Episode>,
     threads: usize,
-    /// `threads - 1` helper threads (none for one thread): the calling thread is the other.
-    helpers: Option<Helpers>,
+    /// The pool of `threads` workers (none for one thread).
+    pool: Option<Pool>,
 }
 
-/// The helper threads and the count of runs they have been handed (a helper kept warm
-/// after run k stops spinning when it changes).
-struct Helpers {
-    pool: ThreadPool,
-    runs: Arc<AtomicU64>,
-    /// The job board every episode's grid updates go through.
-    tiles: Arc<SharedTiles>,
-    /// The process whose threads `pool` holds (see [`EpisodeBatch::restart_helpers_after_fork`]).
+/// The batch's rayon pool and the process that started its threads.
+struct Pool {
+    threads: ThreadPool,
+    /// See [`EpisodeBatch::restart_pool_after_fork`].
     process: u32,
 }
 
-impl Helpers {
-    /// `count` helper threads and a job board that every episode's grid updates go through.
+impl Pool {
+    /// A pool of `count` workers; every episode's grid updates and reset pieces go to the
+    /// pool of the thread that runs them.
     fn start(count: usize, episodes: &mut [Episode]) -> Self {
-        let tiles = Arc::new(SharedTiles::default());
         for episode in episodes {
-            episode.share_tiles(tiles.clone());
+            episode.share_tiles(Arc::new(PoolTiles));
         }
         Self {
-            pool: ThreadPoolBuilder::new()
+            threads: ThreadPoolBuilder::new()
                 .num_threads(count)
                 .build()
-                .expect("the OS can start the batch's helper threads"),
-            runs: Arc::new(AtomicU64::new(0)),
-            tiles,
+                .expect("the OS can start the batch's threads"),
             process: std::process::id(),
-        }
-    }
-
-    /// Starts a run: wakes the helpers kept warm after the last one. Returns its number.
-    fn begin_run(&self) -> u64 {
-        self.runs.fetch_add(1, Ordering::AcqRel) + 1
-    }
-
-    /// Keeps every helper awake for [`HELPER_WARM`] after run `run`, or until the next run.
-    fn keep_warm(&self, run: u64) {
-        for _ in 0..self.pool.current_num_threads() {
-            let runs = Arc::clone(&self.runs);
-            self.pool.spawn(move || {
-                let start = Instant::now();
-                let backoff = Backoff::new();
-                while runs.load(Ordering::Acquire) == run && start.elapsed() < HELPER_WARM {
-                    backoff.snooze();
-                }
-            });
         }
     }
 }
@@ -144,11 +93,11 @@ impl EpisodeBatch {
         let threads = threads
             .unwrap_or(cores)
             .clamp(1, episodes.len().max(cores).max(1));
-        let helpers = (threads > 1).then(|| Helpers::start(threads - 1, &mut episodes));
+        let pool = (threads > 1).then(|| Pool::start(threads, &mut episodes));
         Ok(Self {
             episodes,
             threads,
-            helpers,
+            pool,
         })
     }
 
@@ -185,7 +134,7 @@ impl EpisodeBatch {
         &self.episodes
     }
 
-    /// Threads that carry out a run: the calling thread and `threads - 1` helpers.
+    /// Threads that carry out a run: the pool's workers (the calling thread with one).
     pub fn threads(&self) -> usize {
         self.threads
     }
@@ -262,9 +211,10 @@ impl EpisodeBatch {
     /// mode, indices within their counts) before any episode moves, so a bad action
     /// changes nothing. Otherwise the first failing episode (a step
     /// after termination) is reported as [`EpisodeError::InEpisode`]; the others have run.
-    /// Cost: the work divided over the threads, each taking the next task when it is free
-    /// (resets first), plus one task's length at most; one task or one thread runs on the
-    /// calling thread alone.
+    /// A panic in a task reaches the caller once the other threads' tasks have returned.
+    /// Cost: the work divided over the threads by work stealing (resets first), plus a
+    /// wake-up of the pool's workers; a single step, or one thread, runs on the calling
+    /// thread alone.
     pub fn run(
         &mut self,
         commands: &[Command],
@@ -280,7 +230,7 @@ impl EpisodeBatch {
             });
         }
         self.check_buffers(maps, proprio)?;
-        self.restart_helpers_after_fork();
+        self.restart_pool_after_fork();
         for (index, command) in commands.iter().enumerate() {
             if let Command::Step(action) = command {
                 self.episodes[index]
@@ -311,81 +261,45 @@ impl EpisodeBatch {
                 proprio,
             })
             .collect();
-        let helpers = self.helpers.as_ref();
         // Resets first (a stable sort: otherwise in episode order).
         tasks.sort_by_key(|task| !matches!(task.command, Command::Reset(_)));
         let resets = tasks
             .first()
             .is_some_and(|task| matches!(task.command, Command::Reset(_)));
-        let failures = match helpers {
-            Some(helpers) if tasks.len() > 1 || resets => {
-                let run = helpers.begin_run();
-                // A helper with no episode to take still takes tiles of a reset's grid.
-                let helpful = if resets { usize::MAX } else { tasks.len() - 1 };
-                let working = helpers.pool.current_num_threads().min(helpful);
-                let work = Work {
-                    remaining: AtomicUsize::new(tasks.len()),
-                    queue: Mutex::new(tasks.into()),
-                    failures: Mutex::new(Vec::new()),
-                    tiles: &helpers.tiles,
-                    // A reset posts its grid job after its scene (~0.5 ms): a helper
-                    // asleep by then would cost a wake-up (70-150 µs) of the job.
-                    spin: if resets { HELPER_WARM } else { CALLER_SPIN },
-                };
-                let unfinished = AtomicUsize::new(working);
-                helpers.pool.in_place_scope(|scope| {
-                    for _ in 0..working {
-                        scope.spawn(|_| {
-                            // Counted off even if a task panics (rayon then re-raises it
-                            // here), so the wait below ends.
-                            let _finished = CountOff(&unfinished);
-                            work.take_part(End::Back);
-                        });
-                    }
-                    work.take_part(End::Front);
-                    // Spin (then yield) rather than sleep on the scope's latch, for at
-                    // most CALLER_SPIN: past that the helper has likely lost its core to
-                    // another process, and only a sleeping caller frees one for it.
-                    let (backoff, spinning) = (Backoff::new(), Instant::now());
-                    while unfinished.load(Ordering::Acquire) > 0 && spinning.elapsed() < CALLER_SPIN
-                    {
-                        backoff.snooze();
-                    }
-                });
-                // A batch of one never has a step for a helper to take next.
-                if n > 1 {
-                    helpers.keep_warm(run);
-                }
-                work.failures
-                    .into_inner()
-                    .unwrap_or_else(PoisonError::into_inner)
-            }
-            // One task or one thread: on the calling thread alone.
+        let failure = match &self.pool {
+            // A reset's pieces and grid tiles are worth the pool even alone.
+            Some(pool) if tasks.len() > 1 || resets => pool.threads.install(|| {
+                tasks
+                    .into_par_iter()
+                    .with_max_len(1)
+                    .filter_map(|task| carry_out(task).err())
+                    .min_by_key(|(index, _)| *index)
+            }),
             _ => tasks
                 .into_iter()
                 .filter_map(|task| carry_out(task).err())
-                .collect(),
+                .min_by_key(|(index, _)| *index),
         };
-        match failures.into_iter().min_by_key(|(index, _)| *index) {
+        match failure {
             Some((index, error)) => Err(error.in_episode(index)),
             None => Ok(()),
         }
     }
 
-    /// Starts the helper threads again in a process forked from the one that started them.
+    /// Starts the pool's threads again in a process forked from the one that started them.
     /// A `fork` copies only the forking thread: the child's pool would queue the run's
     /// jobs for threads that are not there, and the run would wait for them for ever
     /// (Python's `multiprocessing` forks a process holding an env). The child's batch
-    /// starts its own helpers instead; the old pool is left alone, not dropped: its threads
-    /// and whatever locks they held belong to the parent. Cost: a `getpid` per run.
-    fn restart_helpers_after_fork(&mut self) {
-        let Some(helpers) = &self.helpers else {
+    /// starts a pool of its own instead; the old one is left alone, not dropped: its
+    /// threads and whatever locks they held belong to the parent. Cost: a `getpid` per run.
+    fn restart_pool_after_fork(&mut self) {
+        let Some(pool) = &self.pool else {
             return;
         };
-        if helpers.process != std::process::id() {
-            let count = helpers.pool.current_num_threads();
-            std::mem::forget(self.helpers.take());
-            self.helpers = Some(Helpers::start(count, &mut self.episodes));
+        if pool.process != std::process::id() {
+            let count = pool.threads.current_num_threads();
+            std::mem::forget(self.pool.take());
+            self.pool = Some(Pool::start(count, &mut self.episodes));
         }
     }
 
@@ -410,15 +324,6 @@ impl EpisodeBatch {
     }
 }
 
-/// Takes one off a count of unfinished helpers when dropped.
-struct CountOff<'a>(&'a AtomicUsize);
-
-impl Drop for CountOff<'_> {
-    fn drop(&mut self) {
-        self.0.fetch_sub(1, Ordering::Release);
-    }
-}
-
 /// One episode's share of a run: its index, the episode, its command, its map rows, its
 /// proprio row.
 struct Task<'a> {
@@ -427,76 +332,6 @@ struct Task<'a> {
     command: Command,
     map: &'a mut [u8],
     proprio: &'a mut [f32],
-}
-
-/// A run's tasks shared by its threads: the queue (resets first, then the steps in episode
-/// order; see [`take_next`]), how many tasks are not yet done, the failures with their
-/// episode's index, and the job board of grid tiles.
-struct Work<'a> {
-    remaining: AtomicUsize,
-    queue: Mutex<VecDeque<Task<'a>>>,
-    failures: Mutex<Vec<(usize, EpisodeError)>>,
-    tiles: &'a SharedTiles,
-    /// How long a thread with no task left spins for a grid job before it sleeps.
-    spin: Duration,
-}
-
-/// Which end of a run's queue a thread takes its steps from: the calling thread the front,
-/// the helpers the back.
-#[derive(Debug, Clone, Copy)]
-enum End {
-    Front,
-    Back,
-}
-
-/// The next task from a queue that holds its resets first: a reset while there is one,
-/// then a step from `end`. With the steps in episode order, the calling thread steps the
-/// first episodes and a helper the last ones, run after run, as long as the load is even:
-/// an episode keeps its thread, and its physics world and map stay in that core's cache
-/// (taken in one order by both, they went to either thread at random).
-fn take_next<T>(queue: &mut VecDeque<T>, end: End, is_reset: impl Fn(&T) -> bool) -> Option<T> {
-    match end {
-        _ if queue.front().is_some_and(is_reset) => queue.pop_front(),
-        End::Front => queue.pop_front(),
-        End::Back => queue.pop_back(),
-    }
-}
-
-impl Work<'_> {
-    /// One thread's part: takes tasks one at a time until the queue is empty (the lock is
-    /// held only to take a task, never while one runs), then helps with the grid tiles of
-    /// the tasks still running until every task is done.
-    fn take_part(&self, end: End) {
-        loop {
-            let next = take_next(
-                &mut self.queue.lock().unwrap_or_else(PoisonError::into_inner),
-                end,
-                |task| matches!(task.command, Command::Reset(_)),
-            );
-            let Some(task) = next else { break };
-            // Counted as done even if the task panics, so no thread helps forever.
-            let _done = TaskDone(self);
-            if let Err(failure) = carry_out(task) {
-                self.failures
-                    .lock()
-                    .unwrap_or_else(PoisonError::into_inner)
-                    .push(failure);
-            }
-        }
-        self.tiles
-            .help_until(|| self.remaining.load(Ordering::Acquire) == 0, self.spin);
-    }
-}
-
-/// Counts one task of a [`Work`] as done when dropped; the last one wakes the helpers.
-struct TaskDone<'w, 'a>(&'w Work<'a>);
-
-impl Drop for TaskDone<'_, '_> {
-    fn drop(&mut self) {
-        if self.0.remaining.fetch_sub(1, Ordering::AcqRel) == 1 {
-            self.0.tiles.wake_all();
-        }
-    }
 }
 
 /// Carries out one episode's command and writes its observation rows; a failure comes
@@ -526,23 +361,6 @@ mod tests {
 
     use super::*;
     use crate::episode::{oracle_action, ActionMode, MapMode, StepInfo};
-
-    /// Resets are taken first, from either end; then the calling thread takes steps from
-    /// the front and a helper from the back, so each keeps its own episodes.
-    #[test]
-    fn resets_go_first_then_each_thread_steps_its_own_end_of_the_queue() {
-        let is_reset = |task: &&str| task.starts_with('r');
-        let mut queue = VecDeque::from(["r1", "r2", "s1", "s2", "s3", "s4"]);
-        let mut take = |end| take_next(&mut queue, end, is_reset);
-        assert_eq!(take(End::Back), Some("r1"));
-        assert_eq!(take(End::Back), Some("r2"));
-        assert_eq!(take(End::Back), Some("s4"));
-        assert_eq!(take(End::Front), Some("s1"));
-        assert_eq!(take(End::Back), Some("s3"));
-        assert_eq!(take(End::Front), Some("s2"));
-        assert_eq!(take(End::Front), None);
-        assert_eq!(take(End::Back), None);
-    }
 
     /// A batch of `config` on `threads` threads, its episodes reset to `seeds`.
     fn started(config: EpisodeConfig, seeds: &[u64], threads: usize) -> EpisodeBatch {

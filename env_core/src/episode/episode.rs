@@ -152,8 +152,8 @@ impl Episode {
         self.ended = false;
         // The approach field and the map's prior need nothing of each other: two pieces of
         // work another thread of a batch may take one of (each piece's result is the same
-        // wherever it runs). The prior goes last: whoever takes it frees the board for the
-        // grid update it posts (`SharedTiles`), so the other thread can help with that.
+        // wherever it runs); the thread done with the field can then take tiles of the
+        // prior's grid update.
         let (jars, target, camera) = (
             self.scene().jar_states(),
             self.scene().target(),

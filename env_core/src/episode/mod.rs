@@ -34,7 +34,6 @@ pub mod oracle;
 pub mod outline;
 pub mod probe;
 pub mod probe_config;
-pub mod shared_tiles;
 pub mod static_geometry;
 pub mod step_info;
 

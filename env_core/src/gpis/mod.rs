@@ -21,4 +21,4 @@ pub use grid::GridSpec;
 pub use kernel::{RowKind, ThinPlateKernel};
 pub use map::{AddReport, Gpis, Prediction};
 pub use observation::{Observation, Row};
-pub use tiles::{run_each, SerialTiles, TileRunner};
+pub use tiles::{run_each, PoolTiles, SerialTiles, TileRunner};
