@@ -66,6 +66,7 @@ bench: build-dev $(VENV)/.extra-bench $(VENV)/.extra-scale ## every benchmark: p
 	$(PY) -m benchmarks.learner_speed --json results/learner_speed.json
 	$(PY) -m benchmarks.env_throughput --vector-only --action-modes wrist probe --json results/env_throughput.json
 	$(PY) -m benchmarks.vector_overhead --json results/vector_overhead.json
+	$(PY) -m benchmarks.construction --json results/construction.json
 	$(PY) -m benchmarks.soak --out results/soak.png --json results/soak.json
 	$(PY) -m benchmarks.ray_grid --json results/ray_grid.json
 	$(MAKE) --no-print-directory performance

@@ -11,15 +11,16 @@ Prints the median of the rounds in milliseconds and as Pusher-v5 constructions.
 from __future__ import annotations
 
 import argparse
-import json
 import statistics
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 import gymnasium as gym
 
 import tactile_search
 from benchmarks.arguments import positive_int
+from benchmarks.performance_page import write_json
 
 
 def seconds_to_make(make: Callable[[], gym.Env | gym.vector.VectorEnv]) -> float:
@@ -69,7 +70,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--rounds", type=positive_int, default=15)
     parser.add_argument("--num-envs", type=positive_int, default=16)
     parser.add_argument("--map", default="gpis", help="the map mode of the envs made")
-    parser.add_argument("--json", help="also write the figures to this JSON file")
+    parser.add_argument("--json", type=Path, help="also write the figures to this JSON file")
     args = parser.parse_args(argv)
     medians = measure(args.rounds, args.num_envs, args.map)
     reference = medians["Pusher-v5"]
@@ -77,9 +78,9 @@ def main(argv: list[str] | None = None) -> None:
     for name, seconds in medians.items():
         print(f"  {name:<18} {1e3 * seconds:8.2f} ms  {seconds / reference:7.2f}x Pusher-v5")
     if args.json:
-        with open(args.json, "w") as out:
-            record = {"rounds": args.rounds, "map": args.map, "seconds": medians}
-            json.dump(record, out, indent=2)
+        figures = {"rounds": args.rounds, "map": args.map, "num_envs": args.num_envs}
+        figures["seconds"] = medians
+        write_json(args.json, "benchmarks.construction", argv, figures)
 
 
 if __name__ == "__main__":

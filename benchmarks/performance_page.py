@@ -415,7 +415,35 @@ class Section:
 
 
 #: In ``make bench``'s order. The commands are ``make bench``'s lines.
+def render_construction(doc: dict[str, Any]) -> list[str]:
+    seconds = doc.get("seconds", {})
+    reference = seconds.get(REFERENCE)
+    header = ["made", "ms", f"vs {REFERENCE}"]
+    rows = [
+        [
+            f"`{name}`",
+            num(1e3 * value, ",.2f"),
+            num(value / reference if reference else None, ".2f", "x"),
+        ]
+        for name, value in seconds.items()
+    ]
+    lines = table(header, rows)
+    lines += [
+        "",
+        f"Medians over {doc.get('rounds', '?')} alternating rounds, map `{doc.get('map', '?')}`.",
+    ]
+    return lines
+
+
 SECTIONS = (
+    Section(
+        "construction.json",
+        "Making an env",
+        "python -m benchmarks.construction --json {json}",
+        '`gym.make` and `gym.make_vec(..., 16, vectorization_mode="vector_entry_point")`: '
+        "construction alone (no episode starts before `reset()`).",
+        render_construction,
+    ),
     Section(
         "gpis_append.json",
         "GPIS append against full recompute",

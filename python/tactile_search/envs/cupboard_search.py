@@ -76,7 +76,8 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
     drives the wrist there, leaving and entering the cupboard only straight along a lane,
     and stops at a touch on the way in or while sweeping, never pressing on into a jar the
     finger touches. Every wrist motion it makes is a step of the time limit and of the reward
-    (the step's reward is their sum; ``info["motions"]`` counts them). An index outside
+    (the step's reward is their sum; ``info["motions"]`` counts them). The indices are
+    integers (a float action raises ``TypeError``); an index outside
     its count raises ``ValueError``. The same option serves every map mode.
 
     ## Observation Space
@@ -152,12 +153,12 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
     env is running raises ``RuntimeError`` (the steps would interleave in the scheduler's
     order). Give each thread its own env, or step a vector env from one thread.
     ``threads`` (default 2; 1 on a one-core machine) is how many threads the env's own
-    work may use: beside the calling thread, a helper computes each reset's approach field
-    and takes half of its GPIS grid update, about 1.5x faster resets with the same results
-    (``python -m benchmarks.peer_envs --variant threads=1``). The helper sleeps between
-    resets, and where processes already fill the cores it costs nothing measurable
-    (``python -m benchmarks.env_threads_side_by_side``); ``threads=1`` starts none,
-    ``None`` gives every core.
+    work may use: with two, a reset's approach field and GPIS grid update are shared
+    between two pool workers while the calling thread waits, with the same results
+    (``python -m benchmarks.peer_envs --variant threads=1`` compares one thread). The
+    workers sleep between resets, and where processes already fill the cores they cost
+    nothing measurable (``python -m benchmarks.env_threads_side_by_side``); ``threads=1``
+    runs everything on the calling thread, ``None`` gives every core.
 
     ## Version History
     - v0: first release. The ``probe`` action mode is an option (``action_mode``); the
