@@ -10,7 +10,10 @@ table without copying its code::
     result.rows  # one dict per episode: seed, success, steps, actions, tips, ...
 
 ``my_policy`` is any callable from one env's observation to its action (optionally with
-``reset(observation, info)``, called at each episode's start). The layouts come from the one
+``reset(observation, info)``, called at each episode's start); a loaded stable-baselines3
+model is one through ``from_sb3(model)``. Every action must fit the env's action space
+(``action_mode="wrist"`` or ``"probe"``): one that does not is refused, not clipped
+(``tactile_search.benchmark.checks``). The layouts come from the one
 place that defines the splits (``tactile_search.seed_ranges``): every choice is made on
 ``validation``; ``test`` is read only by a final evaluation (``final=True``). The command
 line: ``python -m tactile_search.benchmark --policy module:callable`` (or a
@@ -18,6 +21,7 @@ stable-baselines3 ``model.zip``). Needs only numpy and gymnasium (a model.zip ne
 ``agents`` extra).
 """
 
+from tactile_search.benchmark.policies import from_sb3
 from tactile_search.benchmark.runner import ROW_KEYS, BenchmarkResult, episode_row, evaluate
 from tactile_search.benchmark.statistics import Summary, summarize, wilson_interval
 
@@ -27,6 +31,7 @@ __all__ = [
     "Summary",
     "episode_row",
     "evaluate",
+    "from_sb3",
     "summarize",
     "wilson_interval",
 ]

@@ -104,3 +104,45 @@ class EpisodeActions:
         )
         self._episode_start = np.zeros((1,), dtype=bool)
         return action
+
+
+def from_sb3(model: Any, deterministic: bool = True) -> Sb3ModelPolicy:
+    """A loaded stable-baselines3 (or sb3-contrib) model as ``evaluate``'s policy::
+
+        evaluate(from_sb3(PPO.load("model.zip")), action_mode="probe", map="gpis")
+
+    Its action is ``model.predict(observation, deterministic=deterministic)[0]``; a
+    recurrent model (``RecurrentPPO``) gets its LSTM state carried from step to step and
+    cleared at each episode's start (``reset``). Nothing is imported from SB3: any object
+    with that ``predict`` will do. Evaluate it in the action mode it was trained in."""
+    if not callable(getattr(model, "predict", None)):
+        raise TypeError(
+            f"from_sb3 takes a loaded SB3 model (an object with .predict), got {model!r}"
+        )
+    return Sb3ModelPolicy(model, deterministic)
+
+
+def _recurrent(model: Any) -> bool:
+    """An sb3-contrib recurrent model, by duck typing (its policy holds the actor's LSTM)."""
+    policy = getattr(model, "policy", None)
+    return hasattr(policy, "lstm_actor") or "Recurrent" in type(model).__name__
+
+
+class Sb3ModelPolicy:
+    """``from_sb3``'s policy. A deep copy (``evaluate`` gives each slot one) shares the
+    model and starts its own episode state."""
+
+    def __init__(self, model: Any, deterministic: bool = True) -> None:
+        self.model = model
+        self.deterministic = deterministic
+        self.name = type(model).__name__
+        self._actions = EpisodeActions(model, recurrent=_recurrent(model))
+
+    def __deepcopy__(self, memo: dict) -> Sb3ModelPolicy:
+        return Sb3ModelPolicy(self.model, self.deterministic)
+
+    def reset(self, observation: dict, info: dict) -> None:
+        self._actions.reset()
+
+    def __call__(self, observation: dict) -> np.ndarray:
+        return self._actions.predict(observation, deterministic=self.deterministic)

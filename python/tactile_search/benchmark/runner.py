@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from tactile_search.benchmark.checks import ActionCheck, check_policy
 from tactile_search.benchmark.statistics import Summary, summarize
 from tactile_search.envs.config import config_for
 from tactile_search.envs.sub_env import SubEnv
@@ -78,7 +79,10 @@ def evaluate(
             it also has ``reset(observation, info)``, that is called at each episode's start
             and every slot of the vector env gets its own ``copy.deepcopy`` of it (a stateful
             policy never sees two episodes at once; it must start each episode afresh in
-            ``reset``, since a slot's copy plays its episodes one after another).
+            ``reset``, since a slot's copy plays its episodes one after another). A loaded
+            SB3 model goes through ``from_sb3(model)``. Every action is checked against one
+            env's action space (``checks.ActionCheck``): one that does not fit the
+            ``action_mode`` raises instead of being clipped.
         split: ``"validation"`` (every choice is made here) or ``"test"`` (held out for a
             final result: only with ``final=True``).
         episodes: layouts, the split's first seeds.
@@ -96,13 +100,12 @@ def evaluate(
             f"the test split (seeds {lo:,} to {hi - 1:,}) is held out for the final result: "
             "pass final=True only for that evaluation; make every choice on 'validation'"
         )
-    if not callable(policy):
-        raise TypeError(f"policy must be callable (observation -> action), got {policy!r}")
+    check_policy(policy)
     seeds = held_out_seeds(split, episodes)
     stateful = callable(getattr(policy, "reset", None))
     rows = run_on_seeds(
         lambda sub_env: copy.deepcopy(policy) if stateful else policy,
-        seeds, num_envs=num_envs, progress=progress, **env_kwargs,
+        seeds, num_envs=num_envs, progress=progress, check_actions=True, **env_kwargs,
     )  # fmt: skip
     agent = (
         name or getattr(policy, "name", None) or getattr(policy, "__name__", None)
@@ -124,6 +127,7 @@ def run_on_seeds(
     num_envs: int | None = None,
     on_episode: Callable[[dict[str, Any]], None] | None = None,
     progress: bool = False,
+    check_actions: bool = False,
     **env_kwargs: Any,
 ) -> list[dict[str, Any]]:
     """One episode per layout seed on the vector env; their rows in the order of ``seeds``.
@@ -132,7 +136,9 @@ def run_on_seeds(
     slot; ``sub_env`` is that slot's ``SubEnv``, for agents that read the env's geometry,
     decoders or oracle); its ``reset(observation, info)``, if any, is called at each of the
     slot's episodes' start. ``on_episode(row)`` is called as each episode ends (rows come in
-    the order episodes end). ``evaluate`` is this on a split's seeds, with a summary."""
+    the order episodes end). ``check_actions``: every action is checked against one env's
+    action space first (``checks.ActionCheck``: refused, not clipped, with an error in the
+    policy's terms). ``evaluate`` is this on a split's seeds with the check, and a summary."""
     if not seeds:
         return []
     if num_envs is None:
@@ -149,7 +155,8 @@ def run_on_seeds(
 
     try:
         policies = [make_policy(vector.sub_env(i)) for i in range(num_envs)]
-        return _run(vector, policies, list(seeds), finished)
+        check = ActionCheck(vector.single_action_space) if check_actions else np.asarray
+        return _run(vector, policies, list(seeds), finished, check)
     finally:
         vector.close()
 
@@ -167,7 +174,7 @@ class _Slot:
 
 def _run(
     vector: CupboardSearchVectorEnv, policies: list[Any], seeds: list[int],
-    finished: Callable[[dict[str, Any]], None],
+    finished: Callable[[dict[str, Any]], None], check: Callable[[Any], np.ndarray],
 ) -> list[dict[str, Any]]:  # fmt: skip
     queue = list(seeds)
     first = queue[: vector.num_envs]
@@ -181,7 +188,7 @@ def _run(
     rows: dict[int, dict[str, Any]] = {}
     while len(rows) < len(seeds):
         actions = np.stack(
-            [np.asarray(policy(_row(observation, i))) for i, policy in enumerate(policies)]
+            [check(policy(_row(observation, i))) for i, policy in enumerate(policies)]
         )
         observation, reward, terminated, truncated, info = vector.step(actions)
         ended = terminated | truncated
