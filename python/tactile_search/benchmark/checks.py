@@ -7,9 +7,12 @@ space of one env before it is stepped, and one that does not fit raises instead 
 clipped or cast. In the ``wrist`` mode (``Box(-1, 1, (3,))``) an action is 3 finite real
 numbers in [-1, 1] (any real dtype; the core would clip the rest, scoring a different
 policy); in the ``probe`` mode (``MultiDiscrete([lanes, depths, sweeps])``) it is 3 integers
-(an integer dtype) with ``0 <= a < nvec``. The check costs a few microseconds per action,
-well under 1 % of a step of the env.
-Duck typing only: nothing here imports stable-baselines3.
+(an integer dtype) with ``0 <= a < nvec``. Checking every action, not only each episode's
+first, catches a policy whose first actions happen to fit (probe indices of 0 and 1 are
+wrist motions too). Its cost, measured on 2 busy cores: 1.2 us per action (np.asarray alone:
+0.07 us) against 220-360 us for one step of a 2-env vector env, so about 1 % of a step at
+most, less with the policy's own time. Duck typing only: nothing here imports
+stable-baselines3.
 """
 
 from __future__ import annotations
