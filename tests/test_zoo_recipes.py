@@ -4,6 +4,7 @@ from it as it is."""
 
 from __future__ import annotations
 
+import ast
 import runpy
 import subprocess
 import sys
@@ -44,6 +45,8 @@ def test_a_zoo_config_is_in_rl_zoo3s_format(algo: str, mode: str) -> None:
     assert config["env_kwargs"]["map"] == mode
     project_only = set(RUN_KEYS) - set(ZOO_RUN_KEYS)  # max_minutes, deterministic_evaluation
     assert not project_only & set(config)
+    module = ast.get_docstring(ast.parse((ZOO_DIR / f"{algo}_{mode}.py").read_text()))
+    assert "--stochastic" in module  # the advice to evaluate sampled
     extractor = config.get("policy_kwargs", {}).get("features_extractor_class")
     assert extractor is None or isinstance(extractor, type)  # a class, as rl-zoo3 passes it
 
@@ -66,7 +69,7 @@ def plain(value: Any, path: str = "config") -> Any:
 def test_a_zoo_config_holds_plain_python_numbers(algo: str, mode: str) -> None:
     """No numpy scalars (``np.float64(...)``): rl-zoo3 prints the config and writes it to
     the run's ``config.yml`` with ``yaml.dump``, where a numpy scalar becomes a
-    ``!!python/object/apply:numpy...`` tag; the spatial policy's probe points were ones."""
+    numpy object tag; the spatial policy's probe points were ones."""
     hyperparams = runpy.run_path(str(ZOO_DIR / f"{algo}_{mode}.py"))["hyperparams"]
     yaml.safe_load(yaml.safe_dump(plain(hyperparams)))
     assert "numpy" not in yaml.dump(hyperparams)  # as rl-zoo3's config.yml writes it
