@@ -35,11 +35,13 @@ from tactile_search._validation import as_count
 def probe_points(geometry: dict[str, Any]) -> list[list[float]]:
     """For every probe (lane, depth) in row-major order, its two map points in
     ``grid_sample``'s coordinates ([-1, 1] over the map's extent, x then y): the wrist's end
-    position and a finger's reach ahead of it, from the env's ``geometry()``."""
+    position and a finger's reach ahead of it, from the env's ``geometry()``. Plain Python
+    floats, not numpy scalars: the points go into the policy's arguments, which rl-zoo3
+    prints and writes to a run's ``config.yml``."""
     xs, ys = np.asarray(geometry["xs"]), np.asarray(geometry["ys"])
     half = 0.5 * float(geometry["cell"])
-    x0, x1 = xs[0, 0] - half, xs[0, -1] + half
-    y0, y1 = ys[0, 0] - half, ys[-1, 0] + half
+    x0, x1 = float(xs[0, 0]) - half, float(xs[0, -1]) + half
+    y0, y1 = float(ys[0, 0]) - half, float(ys[-1, 0]) + half
     reach = float(geometry["reach"])
     points = []
     for x in geometry["probe_lanes"]:

@@ -7,7 +7,8 @@ run's keys rl-zoo3 knows (``n_timesteps``, ``n_envs``, ``policy``, ``env_kwargs`
 algorithm's arguments with the encoder classes imported (``agents.sb3.encoders``), and none
 of the project's own keys (``max_minutes``, ``deterministic_evaluation``,
 ``bfloat16_updates``, ``imitation``: rl-zoo3 trains the recipe's network from fresh weights
-in float32, without the clone stage of ``agents.imitation.clone_stage``).
+in float32, without the clone stage of ``agents.imitation.clone_stage``, so evaluate its
+agents sampled, ``rl_zoo3.enjoy --stochastic``: each config's docstring says why).
 ``agents/hyperparams/zoo/<algo>_<map>.py`` are the config files, one per recipe; from the
 repository's root (so that ``agents`` imports)::
 

@@ -14,7 +14,8 @@ layout seeds come from one generator, drawn in order as episodes end.
 ``render_mode="rgb_array"`` renders each episode's frame (SB3 tiles them;
 ``VecVideoRecorder`` records them). ``get_attr`` and ``env_method`` reach each
 episode as SB3 reaches a sub-env: ``env_method("reset", indices=[1])`` resets episode 1
-alone. The env pickles with its settings, generator and episodes so far. Needs the
+alone. The env pickles with its settings, generator and episodes so far; after ``close()``
+it refuses ``reset`` and stepping (``gymnasium.error.ClosedEnvironmentError``). Needs the
 ``agents`` extra (stable-baselines3).
 """
 
@@ -24,6 +25,7 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
+from gymnasium.error import ClosedEnvironmentError
 
 try:
     from stable_baselines3.common.vec_env.base_vec_env import VecEnv
@@ -102,6 +104,8 @@ class CupboardSearchSb3VecEnv(VecEnv):
             action_space(self._batch),
         )
         self._actions: Any = np.zeros((num_envs, 3))
+        #: Set by ``close()``: the env then refuses ``reset`` and stepping.
+        self.closed = False
 
     def _next_seeds(self, count: int) -> list[int]:
         """The next ``count`` layout seeds of the generator, left unused (the generator's
@@ -125,12 +129,22 @@ class CupboardSearchSb3VecEnv(VecEnv):
         self._drawn_seeds = []
         return [seed] * self.num_envs
 
+    def _check_open(self) -> None:
+        """``ClosedEnvironmentError`` (gymnasium's, as its vector envs raise) after
+        ``close()``."""
+        if self.closed:
+            raise ClosedEnvironmentError(
+                f"{type(self).__name__} is closed (close() was called): make a new one"
+            )
+
     def reset(self) -> dict[str, np.ndarray]:
+        self._check_open()
         self._reset_episodes(list(enumerate(self._new_seeds(self.num_envs))))
         return self._observation()
 
     def _reset_episodes(self, resets: list[tuple[int, int]]) -> None:
         """Episodes ``i`` begin anew on layouts ``seed`` (``(i, seed)`` pairs)."""
+        self._check_open()
         self._batch.reset_many(resets)
         self._log.began(resets)
 
@@ -139,9 +153,11 @@ class CupboardSearchSb3VecEnv(VecEnv):
         return {k: v.copy() for k, v in observation_dict(*self._batch.observe()).items()}
 
     def step_async(self, actions: np.ndarray) -> None:
+        self._check_open()
         self._actions = actions  # checked once, by the core, in step_wait
 
     def step_wait(self) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, list[dict]]:
+        self._check_open()
         observation, rewards, dones, infos = self._batch.step_autoreset(
             self._actions, self._next_seeds(self.num_envs)
         )
@@ -152,7 +168,8 @@ class CupboardSearchSb3VecEnv(VecEnv):
         return observation, rewards, dones, infos
 
     def close(self) -> None:
-        pass
+        """Marks the env closed (again: no-op): ``reset`` and stepping then raise."""
+        self.closed = True
 
     # ---- render ------------------------------------------------------------------------
     def get_images(self) -> Sequence[np.ndarray | None]:

@@ -34,7 +34,7 @@ import numbers
 from typing import Any, ClassVar
 
 import numpy as np
-from gymnasium.error import ResetNeeded
+from gymnasium.error import ClosedEnvironmentError, ResetNeeded
 from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
@@ -201,6 +201,7 @@ class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
     def reset(
         self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
     ) -> tuple[dict, dict]:
+        self._check_open()
         seeds = self._reset_seeds(seed)
         mask = self._reset_mask(options)
         resets = [(i, self._layout(i, seeds[i])) for i in np.flatnonzero(mask).tolist()]
@@ -292,10 +293,21 @@ class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
             self._masked_info = with_masks(info, copy=False)
         return dict(self._masked_info)
 
+    def _check_open(self) -> None:
+        """``ClosedEnvironmentError`` after ``close()`` (gymnasium's ``closed`` flag, set by
+        ``VectorEnv.close``, which stays idempotent), as gymnasium's ``AsyncVectorEnv``
+        refuses a closed env."""
+        if self.closed:
+            raise ClosedEnvironmentError(
+                f"{type(self).__name__} is closed (close() was called): make a new one"
+            )
+
     def _check_steppable(self, actions: Any) -> None:
-        """``ResetNeeded`` before every sub-env's first reset; ``TypeError`` for actions that
-        are not an array of them; in the ``DISABLED`` mode, ``ResetNeeded`` while an ended
-        episode waits for its reset. (The core checks the shape and values.)"""
+        """``ClosedEnvironmentError`` after ``close()``; ``ResetNeeded`` before every
+        sub-env's first reset; ``TypeError`` for actions that are not an array of them; in
+        the ``DISABLED`` mode, ``ResetNeeded`` while an ended episode waits for its reset.
+        (The core checks the shape and values.)"""
+        self._check_open()
         if not self._all_reset:
             self._all_reset = all(seed is not None for seed in self._log.seeds)
             if not self._all_reset:
