@@ -35,6 +35,7 @@ import gymnasium as gym
 import yaml
 
 import tactile_search
+from tactile_search.benchmark.policies import RUN_CONFIG_FILE
 from tactile_search.envs.config import MAP_MODES
 
 # Where the published models are trained (agents.pipeline's full budget), from the repo root.
@@ -42,8 +43,8 @@ PUBLISHED_RUNS = "docs/results/models"
 #: The algorithms a run may record as its ``algo`` (``agents.sb3.recipes`` gives each its
 #: SB3 class).
 ALGORITHMS = ("ppo", "recurrent_ppo")
-#: The files of a run directory.
-CONFIG_FILE = "config.yml"
+#: The files of a run directory (the config's name is the benchmark's, which reads it too).
+CONFIG_FILE = RUN_CONFIG_FILE
 MODEL_FILE = "model.zip"
 PROGRESS_FILE = "progress.csv"
 

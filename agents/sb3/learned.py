@@ -13,18 +13,14 @@ import numpy as np
 
 from agents.run_dir import CONFIG_FILE, model_path, read_run_config, run_label
 from agents.sb3.recipes import algorithm_class, load_objects
-from tactile_search.benchmark.policies import EpisodeActions
-from tactile_search.envs.config import REWARD_KEYS
+from tactile_search.benchmark.policies import EpisodeActions, evaluation_settings
 
 
 def evaluation_env_kwargs(config: dict[str, Any]) -> dict[str, Any]:
     """The settings of the env a run is evaluated in: its recipe's ``env_kwargs`` (the map,
     the grid, the jars, ...) without the reward terms (evaluation scores every agent in the
     environment's default reward), from the run's ``config.yml``."""
-    recipe = config.get("hyperparams", {})
-    env_kwargs = dict(recipe.get("env_kwargs", {})) if isinstance(recipe, dict) else {}
-    env_kwargs["map"] = config["map"]
-    return {key: value for key, value in env_kwargs.items() if key not in REWARD_KEYS}
+    return evaluation_settings(config)
 
 
 def load_model(model_path: Path, algo: str, recipe: dict[str, Any] | None = None) -> Any:

@@ -1,6 +1,11 @@
 """``python -m tactile_search.benchmark --policy module:callable``: the standard evaluation
 of a policy (see ``tactile_search.benchmark``), printed as one summary row; ``--json`` and
-``--csv`` keep the per-episode rows."""
+``--csv`` keep the per-episode rows.
+
+A ``model.zip`` is evaluated as it was trained (its run's ``config.yml``: algorithm, env
+settings, the policy's mode or sampled); each ``--env`` setting overrides one of those, and
+the summary names the env, its map and action mode, how actions were chosen and what was
+overridden. Every failure is one line on stderr (exit status 2), never a traceback."""
 
 from __future__ import annotations
 
@@ -13,9 +18,14 @@ import math
 from pathlib import Path
 from typing import Any
 
-from tactile_search.benchmark.policies import SB3_ALGORITHMS, load_policy
+from tactile_search import ENV_ID
+from tactile_search.benchmark.policies import SB3_ALGORITHMS, Sb3Policy, load_policy
 from tactile_search.benchmark.runner import ROW_KEYS, BenchmarkResult, evaluate
+from tactile_search.envs.config import SETTINGS
 from tactile_search.seed_ranges import SPLITS
+
+#: Every setting's default (what an env made without it runs).
+DEFAULTS: dict[str, Any] = {s["key"]: s["default"] for s in SETTINGS}
 
 
 def setting(text: str) -> tuple[str, Any]:
@@ -27,6 +37,19 @@ def setting(text: str) -> tuple[str, Any]:
         return key, ast.literal_eval(value)
     except (ValueError, SyntaxError):
         return key, value
+
+
+def run_description(result: BenchmarkResult, actions: str, overridden: dict[str, Any]) -> str:
+    """What ran: the env id, its map and action mode, how actions were chosen, and which
+    settings the command line overrode."""
+    settings = result.env_kwargs
+    text = (
+        f"{ENV_ID}, map {settings.get('map', DEFAULTS['map'])}, action_mode "
+        f"{settings.get('action_mode', DEFAULTS['action_mode'])}, actions: {actions}"
+    )
+    if overridden:
+        text += "; overridden: " + ", ".join(f"{k}={v!r}" for k, v in overridden.items())
+    return text
 
 
 def summary_line(result: BenchmarkResult) -> str:
@@ -49,7 +72,10 @@ def main(argv: list[str] | None = None) -> BenchmarkResult:
     parser = argparse.ArgumentParser(prog="python -m tactile_search.benchmark", description=__doc__)
     parser.add_argument("--policy", required=True, help="module:callable, or an SB3 model.zip")
     parser.add_argument(
-        "--algo", default="ppo", choices=sorted(SB3_ALGORITHMS), help="a model.zip's"
+        "--algo",
+        default=None,
+        choices=sorted(SB3_ALGORITHMS),
+        help="a model.zip's algorithm (default: its run's config.yml, else ppo)",
     )
     parser.add_argument("--split", default="validation", choices=sorted(SPLITS))
     parser.add_argument("--episodes", type=int, default=200)
@@ -64,14 +90,25 @@ def main(argv: list[str] | None = None) -> BenchmarkResult:
     parser.add_argument("--csv", type=Path, default=None, help="write the rows")
     parser.add_argument("--no-progress", action="store_true")
     args = parser.parse_args(argv)
+    overridden = dict(args.env)
     try:
         policy = load_policy(args.policy, args.algo)
+        trained = dict(getattr(policy, "env_settings", {}))
+        if isinstance(policy, Sb3Policy):
+            policy.check_fits({**trained, **overridden})
+        actions = (
+            "the policy's own"
+            if not isinstance(policy, Sb3Policy)
+            else ("the policy's mode" if policy.deterministic else "sampled from the policy")
+        )
         result = evaluate(
             policy, args.split, args.episodes, final=args.final, name=args.name,
-            num_envs=args.num_envs, progress=not args.no_progress, **dict(args.env),
+            num_envs=args.num_envs, progress=not args.no_progress, **{**trained, **overridden},
         )  # fmt: skip
-    except (ValueError, TypeError, ModuleNotFoundError) as error:
-        parser.error(str(error))
+    except Exception as error:  # one line, never a traceback: the user's input is at fault
+        message = " ".join(str(error).split()) or type(error).__name__
+        parser.exit(2, f"{parser.prog}: error: {message}\n")
+    print(run_description(result, actions, overridden))
     print(summary_line(result))
     if args.json is not None:
         args.json.parent.mkdir(parents=True, exist_ok=True)

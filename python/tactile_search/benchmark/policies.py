@@ -2,9 +2,11 @@
 
 ``module:callable`` imports ``module`` and takes its attribute ``callable``: a function (or
 any callable object) from observation to action is the policy; a class is instantiated with
-no arguments first. A path ending in ``.zip`` is an SB3 model, loaded with the algorithm
-``--algo`` names (the ``agents`` extra); its policy's mode is the action, with a recurrent
-policy's state carried through the episode and cleared at its reset.
+no arguments first. A path ending in ``.zip`` is an SB3 model (the ``agents`` extra),
+evaluated as it was trained: the run's ``config.yml`` beside it, when there is one, gives
+its algorithm (recurrent or not), the env id and settings it was trained in (``RunConfig``)
+and whether its actions are the policy's mode or sampled; a recurrent policy's state is
+carried through the episode and cleared at its reset.
 
 Security: an SB3 ``model.zip`` and a named module both run code of their choosing when
 loaded. Load only what you trust.
@@ -12,11 +14,15 @@ loaded. Load only what you trust.
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from tactile_search import ENV_ID
+from tactile_search.envs.config import REWARD_KEYS
 
 #: SB3 algorithms a model.zip may hold, by the name ``--algo`` takes: (module, class).
 SB3_ALGORITHMS: dict[str, tuple[str, str]] = {
@@ -29,8 +35,64 @@ SB3_ALGORITHMS: dict[str, tuple[str, str]] = {
 }
 
 
-def load_policy(spec: str, algo: str = "ppo") -> Any:
-    """The policy ``spec`` names (see the module docstring)."""
+#: The file beside a model.zip that says how its run was trained (``agents.run_dir``).
+RUN_CONFIG_FILE = "config.yml"
+
+
+def evaluation_settings(config: dict[str, Any]) -> dict[str, Any]:
+    """The settings of the env a run is evaluated in, from its ``config.yml`` (a mapping):
+    its recipe's ``env_kwargs`` and ``map`` without the reward terms (every agent is scored
+    in the environment's default reward)."""
+    recipe = config.get("hyperparams") or {}
+    settings = {**(recipe.get("env_kwargs") or {}), "map": config["map"]}
+    return {key: value for key, value in settings.items() if key not in REWARD_KEYS}
+
+
+@dataclasses.dataclass(frozen=True)
+class RunConfig:
+    """How a model was trained, from the ``config.yml`` of its run: its algorithm, the env
+    id, the env settings it is evaluated in (its recipe's ``env_kwargs`` and ``map`` without
+    the reward terms: every agent is scored in the environment's default reward) and
+    whether its actions are the policy's mode (``deterministic_evaluation``, default true)."""
+
+    algo: str
+    env_id: str
+    env_settings: dict[str, Any]
+    deterministic: bool
+
+    @classmethod
+    def beside(cls, model: Path) -> RunConfig | None:
+        """The run config next to ``model``, or None where there is none. ``ValueError``
+        naming the file if it is not a run config."""
+        path = model.parent / RUN_CONFIG_FILE
+        if not path.is_file():
+            return None
+        try:
+            import yaml
+        except ModuleNotFoundError as error:
+            raise ModuleNotFoundError(
+                f"reading {path} needs pyyaml: pip install 'tactile_search[agents]'",
+                name=error.name,
+            ) from error
+        try:
+            config = yaml.safe_load(path.read_text())
+            recipe = config.get("hyperparams") or {}
+            return cls(
+                algo=str(config["algo"]),
+                env_id=str(config.get("env_id", ENV_ID)),
+                env_settings=evaluation_settings(config),
+                deterministic=bool(recipe.get("deterministic_evaluation", True)),
+            )
+        except (yaml.YAMLError, AttributeError, KeyError, TypeError) as error:
+            raise ValueError(
+                f"{path} is not a run's config (a mapping with algo, map and hyperparams): "
+                f"{type(error).__name__}: {error}"
+            ) from None
+
+
+def load_policy(spec: str, algo: str | None = None) -> Any:
+    """The policy ``spec`` names (see the module docstring); ``algo`` overrides a model's
+    run config only where they agree (``ValueError`` otherwise)."""
     if spec.endswith(".zip"):
         return Sb3Policy(Path(spec), algo)
     module_name, sep, attribute = spec.partition(":")
@@ -51,13 +113,32 @@ def load_policy(spec: str, algo: str = "ppo") -> Any:
 
 
 class Sb3Policy:
-    """An SB3 model as a policy: its mode, with a recurrent model's state per episode."""
+    """An SB3 model as a policy, as its run config says it was trained (``RunConfig``; the
+    policy's mode and ``algo``, default ``ppo``, without one): ``run`` holds it,
+    ``deterministic`` says how its actions are chosen, and a recurrent model's state is
+    carried through each episode."""
 
-    def __init__(self, path: Path, algo: str) -> None:
-        if algo not in SB3_ALGORITHMS:
-            raise ValueError(f"algo must be one of {sorted(SB3_ALGORITHMS)}, got {algo!r}")
+    def __init__(self, path: Path, algo: str | None = None) -> None:
         if not path.is_file():
             raise ValueError(f"{path} is not a file")
+        self.run = RunConfig.beside(path)
+        if self.run is not None:
+            if self.run.env_id != ENV_ID:
+                raise ValueError(
+                    f"{path} was trained on {self.run.env_id!r} (its {RUN_CONFIG_FILE}); "
+                    f"this benchmark evaluates {ENV_ID!r}"
+                )
+            if algo is not None and algo != self.run.algo:
+                raise ValueError(
+                    f"{path} was trained with {self.run.algo} (its {RUN_CONFIG_FILE}), got "
+                    f"--algo {algo}: leave --algo out to use the run's"
+                )
+            algo = self.run.algo
+        algo = algo or "ppo"
+        if algo not in SB3_ALGORITHMS:
+            raise ValueError(f"algo must be one of {sorted(SB3_ALGORITHMS)}, got {algo!r}")
+        self.algo = algo
+        self.deterministic = self.run.deterministic if self.run is not None else True
         module_name, class_name = SB3_ALGORITHMS[algo]
         try:
             module = importlib.import_module(module_name)
@@ -68,14 +149,47 @@ class Sb3Policy:
                 name=error.name,
             ) from error
         self.name = f"{algo} ({path})"
-        self.model = getattr(module, class_name).load(path, device="cpu")
+        try:
+            self.model = getattr(module, class_name).load(path, device="cpu")
+        except ModuleNotFoundError as error:
+            raise ModuleNotFoundError(
+                f"{path} needs the module {error.name!r} to load (its policy's classes): run "
+                "from the repository that trained it, or install that module",
+                name=error.name,
+            ) from None
+        except Exception as error:  # SB3 raises assertion, key, pickle and zip errors alike
+            raise ValueError(
+                f"{path} does not load as a {algo} model ({type(error).__name__}: {error})"
+            ) from None
         self._actions = EpisodeActions(self.model, recurrent=algo == "recurrent_ppo")
+
+    def check_fits(self, settings: dict[str, Any]) -> None:
+        """``ValueError`` when an env of ``settings`` gives observations or takes actions of
+        other spaces than the model's (a map the model never saw, another action mode)."""
+        from tactile_search.envs.cupboard_search import CupboardSearchEnv
+
+        env = CupboardSearchEnv(threads=1, **settings)  # starts no episode
+        for what, ours, theirs in (
+            ("observations", env.observation_space, self.model.observation_space),
+            ("actions", env.action_space, self.model.action_space),
+        ):
+            if ours != theirs:
+                given = ", ".join(f"{k}={v!r}" for k, v in settings.items()) or "the defaults"
+                raise ValueError(
+                    f"the model cannot run under {given}: it was trained on {what} {theirs}, "
+                    f"and this env's are {ours}"
+                )
+
+    @property
+    def env_settings(self) -> dict[str, Any]:
+        """The env settings the model was trained in (none without a run config)."""
+        return {} if self.run is None else dict(self.run.env_settings)
 
     def reset(self, observation: dict, info: dict) -> None:
         self._actions.reset()
 
     def __call__(self, observation: dict) -> np.ndarray:
-        return self._actions.predict(observation, deterministic=True)
+        return self._actions.predict(observation, deterministic=self.deterministic)
 
 
 class EpisodeActions:
