@@ -7,8 +7,15 @@ run's keys rl-zoo3 knows (``n_timesteps``, ``n_envs``, ``policy``, ``env_kwargs`
 algorithm's arguments with the encoder classes imported (``agents.sb3.encoders``), and none
 of the project's own keys (``max_minutes``, ``deterministic_evaluation``,
 ``bfloat16_updates``, ``imitation``: rl-zoo3 trains the recipe's network from fresh weights
-in float32, without the clone stage of ``agents.imitation.clone_stage``, so evaluate its
-agents sampled, ``rl_zoo3.enjoy --stochastic``: each config's docstring says why).
+in float32, without the clone stage of ``agents.imitation.clone_stage``).
+
+Evaluate its agents sampled (``python -m rl_zoo3.enjoy ... --stochastic``), not by rl-zoo3's
+default, the policy's most likely action: without the clone of the probe planner that the
+recipe's ``deterministic_evaluation: true`` is for, the most likely action of an agent
+trained from scratch in the probe mode repeats one probe until the time limit
+(docs/results/ablations_imitation/ppo_spatial.yml: 63 % sampled against 47 % on 100
+validation layouts). rl-zoo3's evaluations during training (``--eval-freq``) always take the
+most likely action, and so does its ``best_model``.
 ``agents/hyperparams/zoo/<algo>_<map>.py`` are the config files, one per recipe; from the
 repository's root (so that ``agents`` imports)::
 
