@@ -2,7 +2,6 @@
 //! batch takes it as it is (no dict goes back and forth, nothing is checked again); Python
 //! reads its values with `as_dict()`.
 
-use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 
@@ -33,18 +32,8 @@ impl PyEpisodeConfig {
         caller: Option<&str>,
         kwargs: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
-        if let Some(caller) = caller {
-            let given = [settings.and_then(|s| s.cast::<PyDict>().ok()), kwargs];
-            for key in given.into_iter().flatten().flat_map(|d| d.keys()) {
-                if let Ok(key) = key.extract::<String>() {
-                    if let Err(unknown) = EpisodeConfig::setting(&key) {
-                        return Err(PyTypeError::new_err(format!("{caller}() {unknown}")));
-                    }
-                }
-            }
-        }
         Ok(Self {
-            checked: config_from::<EpisodeConfig>(settings, kwargs)?,
+            checked: config_from::<EpisodeConfig>(settings, kwargs, caller)?,
         })
     }
 

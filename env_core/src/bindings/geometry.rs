@@ -256,7 +256,7 @@ pub(super) fn hand_geometry<'py>(
     config: Option<&Bound<'py, PyAny>>,
     kwargs: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let scene = config_from::<SceneConfig>(config, kwargs)?;
+    let scene = config_from::<SceneConfig>(config, kwargs, None)?;
     let hand = &scene.hand;
     let d = config_dict(py, hand)?;
     d.set_item("joint_offset", joint_offset(hand))?;

@@ -134,7 +134,7 @@ pub(super) fn depth_prior(
     let slice = points("slice_points", slice_points)?;
     let camera = vector("camera", camera, 2)?;
     let grid = grid(bounds, shape)?;
-    let config = config_from::<EpisodeConfig>(None, settings)?;
+    let config = config_from::<EpisodeConfig>(None, settings, None)?;
     let camera = [camera[0], camera[1]];
     let rows = py.detach(|| prior::depth_prior(&slice, camera, &grid, &config.map))?;
     Ok(PyObservations { rows })

@@ -71,7 +71,7 @@ impl PyScene {
         kwargs: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         let seed = seed.map_or(Ok(0), seed_of)?;
-        let config = config_from::<SceneConfig>(config, kwargs)?;
+        let config = config_from::<SceneConfig>(config, kwargs, None)?;
         let inner = py.detach(|| Scene::new(&config, seed))?;
         Ok(Self {
             scene: Exclusive::new("Scene", inner),

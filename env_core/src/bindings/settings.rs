@@ -80,12 +80,15 @@ pub(super) fn to_python<'py>(py: Python<'py>, value: &SettingValue) -> PyResult<
 }
 
 /// A config `C` from its defaults, then `config` (a dict or None), then keyword arguments;
-/// a key given in both is an error. Every value is type checked and the whole config
-/// checked, once: the result is what the core's constructors take. Errors name the key as
-/// typed.
+/// a key given in both is an error. Each key is looked up before its value is read (a key
+/// that is no setting is a `TypeError`, as Python's for an unexpected keyword, prefixed by
+/// `caller()` when given: the function the user called), every value is type checked and
+/// the whole config checked, once: the result is what the core's constructors take. Errors
+/// name the key as typed.
 pub(super) fn config_from<C: Settings>(
     config: Option<&Bound<'_, PyAny>>,
     kwargs: Option<&Bound<'_, PyDict>>,
+    caller: Option<&str>,
 ) -> PyResult<Checked<C>> {
     let mut pairs: Vec<(String, SettingValue)> = Vec::new();
     if let Some(config) = config.filter(|c| !c.is_none()) {
@@ -95,10 +98,10 @@ pub(super) fn config_from<C: Settings>(
                 type_name(config)
             ))
         })?;
-        pairs.extend(entries(dict)?);
+        pairs.extend(entries::<C>(dict, caller)?);
     }
     if let Some(kwargs) = kwargs {
-        for (key, value) in entries(kwargs)? {
+        for (key, value) in entries::<C>(kwargs, caller)? {
             if pairs.iter().any(|(k, _)| *k == key) {
                 return Err(PyValueError::new_err(format!(
                     "setting {key:?} was given both in the config dict and as a keyword argument"
@@ -112,12 +115,21 @@ pub(super) fn config_from<C: Settings>(
     )?)
 }
 
-fn entries(dict: &Bound<'_, PyDict>) -> PyResult<Vec<(String, SettingValue)>> {
+fn entries<C: Settings>(
+    dict: &Bound<'_, PyDict>,
+    caller: Option<&str>,
+) -> PyResult<Vec<(String, SettingValue)>> {
     dict.iter()
         .map(|(key, value)| {
             let key: String = key.extract().map_err(|_| {
                 PyTypeError::new_err(format!("setting keys must be str, got {}", type_name(&key)))
             })?;
+            if let Err(unknown) = C::setting(&key) {
+                return Err(match caller {
+                    Some(caller) => PyTypeError::new_err(format!("{caller}() {unknown}")),
+                    None => unknown.into(),
+                });
+            }
             let value = to_setting_value(&key, &value)?;
             Ok((key, value))
         })
