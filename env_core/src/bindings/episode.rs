@@ -97,6 +97,16 @@ impl BatchState {
     }
 }
 
+impl PyEpisodeBatch {
+    /// A step for every episode, with its row of `actions` (N, 3) read in the batch's
+    /// action mode.
+    fn step_commands(&self, actions: &Bound<'_, PyAny>) -> PyResult<Vec<Command>> {
+        let shape = [self.num_envs, 3];
+        let actions = actions_of("actions", actions, &shape, self.config.action_mode)?;
+        Ok(actions.into_iter().map(Command::Step).collect())
+    }
+}
+
 #[pymethods]
 impl PyEpisodeBatch {
     /// `num_envs` episodes of `config` (an `EpisodeConfig`, checked when it was made), none
@@ -214,12 +224,7 @@ impl PyEpisodeBatch {
         Bound<'py, PyArray1<bool>>,
         Bound<'py, PyDict>,
     )> {
-        let n = self.num_envs;
-        let mut commands: Vec<Command> =
-            actions_of("actions", actions, &[n, 3], self.config.action_mode)?
-                .into_iter()
-                .map(Command::Step)
-                .collect();
+        let mut commands = self.step_commands(actions)?;
         let mut state = self.state.lock()?;
         if let Some(resets) = resets {
             state.set_resets(&mut commands, resets)?;
@@ -255,11 +260,7 @@ impl PyEpisodeBatch {
         Bound<'py, PyList>,
     )> {
         let n = self.num_envs;
-        let commands: Vec<Command> =
-            actions_of("actions", actions, &[n, 3], self.config.action_mode)?
-                .into_iter()
-                .map(Command::Step)
-                .collect();
+        let commands = self.step_commands(actions)?;
         let seeds: Vec<u64> = seeds
             .try_iter()
             .map_err(|_| wrong_type("seeds", "a sequence of ints", seeds))?
