@@ -14,6 +14,7 @@ loaded. Load only what you trust.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import importlib
 from pathlib import Path
@@ -112,11 +113,55 @@ def load_policy(spec: str, algo: str | None = None) -> Any:
     return policy
 
 
-class Sb3Policy:
-    """An SB3 model as a policy, as its run config says it was trained (``RunConfig``; the
-    policy's mode and ``algo``, default ``ppo``, without one): ``run`` holds it,
-    ``deterministic`` says how its actions are chosen, and a recurrent model's state is
-    carried through each episode."""
+def from_sb3(model: Any, deterministic: bool = True) -> Sb3ModelPolicy:
+    """A loaded stable-baselines3 (or sb3-contrib) model as ``evaluate``'s policy::
+
+        evaluate(from_sb3(PPO.load("model.zip")), action_mode="probe", map="gpis")
+
+    Its action is ``model.predict(observation, deterministic=deterministic)[0]``; a
+    recurrent model (``RecurrentPPO``) gets its LSTM state carried from step to step and
+    cleared at each episode's start (``reset``). Nothing is imported from SB3: any object
+    with that ``predict`` will do. Evaluate it in the action mode it was trained in."""
+    if not callable(getattr(model, "predict", None)):
+        raise TypeError(
+            f"from_sb3 takes a loaded SB3 model (an object with .predict), got {model!r}"
+        )
+    return Sb3ModelPolicy(model, deterministic)
+
+
+def _recurrent(model: Any) -> bool:
+    """An sb3-contrib recurrent model, by duck typing (its policy holds the actor's LSTM)."""
+    policy = getattr(model, "policy", None)
+    return hasattr(policy, "lstm_actor") or "Recurrent" in type(model).__name__
+
+
+class Sb3ModelPolicy:
+    """``from_sb3``'s policy. A deep copy (``evaluate`` gives each slot one) shares the
+    model (its weights are read, never written) and starts its own episode state."""
+
+    def __init__(self, model: Any, deterministic: bool = True) -> None:
+        self.model = model
+        self.deterministic = deterministic
+        self.name = type(model).__name__
+        self._actions = EpisodeActions(model, recurrent=_recurrent(model))
+
+    def __deepcopy__(self, memo: dict) -> Sb3ModelPolicy:
+        twin = copy.copy(self)
+        twin._actions = EpisodeActions(self.model, recurrent=_recurrent(self.model))
+        return twin
+
+    def reset(self, observation: dict, info: dict) -> None:
+        self._actions.reset()
+
+    def __call__(self, observation: dict) -> np.ndarray:
+        return self._actions.predict(observation, deterministic=self.deterministic)
+
+
+class Sb3Policy(Sb3ModelPolicy):
+    """An SB3 ``model.zip`` as a policy, as its run config says it was trained
+    (``RunConfig``; the policy's mode and ``algo``, default ``ppo``, without one): ``run``
+    holds it, ``deterministic`` says how its actions are chosen, and a recurrent model's
+    state is carried through each episode (``Sb3ModelPolicy``)."""
 
     def __init__(self, path: Path, algo: str | None = None) -> None:
         if not path.is_file():
@@ -138,7 +183,6 @@ class Sb3Policy:
         if algo not in SB3_ALGORITHMS:
             raise ValueError(f"algo must be one of {sorted(SB3_ALGORITHMS)}, got {algo!r}")
         self.algo = algo
-        self.deterministic = self.run.deterministic if self.run is not None else True
         module_name, class_name = SB3_ALGORITHMS[algo]
         try:
             module = importlib.import_module(module_name)
@@ -148,9 +192,8 @@ class Sb3Policy:
                 "pip install 'tactile_search[agents]'",
                 name=error.name,
             ) from error
-        self.name = f"{algo} ({path})"
         try:
-            self.model = getattr(module, class_name).load(path, device="cpu")
+            model = getattr(module, class_name).load(path, device="cpu")
         except ModuleNotFoundError as error:
             raise ModuleNotFoundError(
                 f"{path} needs the module {error.name!r} to load (its policy's classes): run "
@@ -161,7 +204,8 @@ class Sb3Policy:
             raise ValueError(
                 f"{path} does not load as a {algo} model ({type(error).__name__}: {error})"
             ) from None
-        self._actions = EpisodeActions(self.model, recurrent=algo == "recurrent_ppo")
+        super().__init__(model, self.run.deterministic if self.run is not None else True)
+        self.name = f"{algo} ({path})"
 
     def check_fits(self, settings: dict[str, Any]) -> None:
         """``ValueError`` when an env of ``settings`` gives observations or takes actions of
@@ -184,12 +228,6 @@ class Sb3Policy:
     def env_settings(self) -> dict[str, Any]:
         """The env settings the model was trained in (none without a run config)."""
         return {} if self.run is None else dict(self.run.env_settings)
-
-    def reset(self, observation: dict, info: dict) -> None:
-        self._actions.reset()
-
-    def __call__(self, observation: dict) -> np.ndarray:
-        return self._actions.predict(observation, deterministic=self.deterministic)
 
 
 class EpisodeActions:
@@ -218,45 +256,3 @@ class EpisodeActions:
         )
         self._episode_start = np.zeros((1,), dtype=bool)
         return action
-
-
-def from_sb3(model: Any, deterministic: bool = True) -> Sb3ModelPolicy:
-    """A loaded stable-baselines3 (or sb3-contrib) model as ``evaluate``'s policy::
-
-        evaluate(from_sb3(PPO.load("model.zip")), action_mode="probe", map="gpis")
-
-    Its action is ``model.predict(observation, deterministic=deterministic)[0]``; a
-    recurrent model (``RecurrentPPO``) gets its LSTM state carried from step to step and
-    cleared at each episode's start (``reset``). Nothing is imported from SB3: any object
-    with that ``predict`` will do. Evaluate it in the action mode it was trained in."""
-    if not callable(getattr(model, "predict", None)):
-        raise TypeError(
-            f"from_sb3 takes a loaded SB3 model (an object with .predict), got {model!r}"
-        )
-    return Sb3ModelPolicy(model, deterministic)
-
-
-def _recurrent(model: Any) -> bool:
-    """An sb3-contrib recurrent model, by duck typing (its policy holds the actor's LSTM)."""
-    policy = getattr(model, "policy", None)
-    return hasattr(policy, "lstm_actor") or "Recurrent" in type(model).__name__
-
-
-class Sb3ModelPolicy:
-    """``from_sb3``'s policy. A deep copy (``evaluate`` gives each slot one) shares the
-    model and starts its own episode state."""
-
-    def __init__(self, model: Any, deterministic: bool = True) -> None:
-        self.model = model
-        self.deterministic = deterministic
-        self.name = type(model).__name__
-        self._actions = EpisodeActions(model, recurrent=_recurrent(model))
-
-    def __deepcopy__(self, memo: dict) -> Sb3ModelPolicy:
-        return Sb3ModelPolicy(self.model, self.deterministic)
-
-    def reset(self, observation: dict, info: dict) -> None:
-        self._actions.reset()
-
-    def __call__(self, observation: dict) -> np.ndarray:
-        return self._actions.predict(observation, deterministic=self.deterministic)
