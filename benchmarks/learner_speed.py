@@ -59,11 +59,11 @@ from typing import Any
 import yaml
 
 from agents.sb3.bfloat16 import cpu_has_amx_bf16
-from agents.sb3.encoders import MapExtractor, map_feature_shape
 from agents.sb3.recipes import load_hyperparams, new_model, training_class
 from agents.sb3.training_env import make_training_env
 from benchmarks.arguments import positive_int
 from benchmarks.performance_page import write_json
+from tactile_search.networks.encoders import MapExtractor, map_feature_shape
 
 ABLATIONS = Path("docs/results/ablations_speed")
 #: name -> (the map mode, the recipe file (None: agents/hyperparams/ppo.yml), the
@@ -78,7 +78,11 @@ VARIANTS: dict[str, tuple[str, Path | None, str | None]] = {
     "impala_factorised": ("gpis", FACTORISED, "keep"),
     "space_to_depth": ("gpis", ABLATIONS / "space_to_depth.yml", "keep"),
     "nature_cnn": ("gpis", FACTORISED, None),
-    "spatial_softmax": ("gpis", FACTORISED, "agents.sb3.encoders.SpatialSoftmaxMapExtractor"),
+    "spatial_softmax": (
+        "gpis",
+        FACTORISED,
+        "tactile_search.networks.encoders.SpatialSoftmaxMapExtractor",
+    ),
     "mlp_no_map": ("none", None, "keep"),
 }
 REFERENCE_VARIANT = "recipe"

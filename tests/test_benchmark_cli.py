@@ -4,6 +4,8 @@ reports every bad input as one line, never a traceback."""
 
 from __future__ import annotations
 
+import csv
+import json
 import os
 import subprocess
 import sys
@@ -15,26 +17,76 @@ pytest.importorskip("stable_baselines3")
 pytest.importorskip("sb3_contrib")
 
 from tactile_search.benchmark.__main__ import main
+from tactile_search.benchmark.statistics import wilson_interval
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "docs" / "results" / "models"
+PUBLISHED_RUNS = sorted(path.name for path in MODELS.iterdir() if (path / "model.zip").is_file())
 #: The published agents' success on the test layouts (docs/RESULTS.md).
 PUBLISHED_GPIS_SUCCESS = 0.965
+#: Validation layouts each published model plays from outside the repository.
+FROM_ANYWHERE_EPISODES = 8
+
+
+def outside_env() -> dict[str, str]:
+    """The environment of a user's shell outside the repository: only the package's own
+    folder on the path (so the package is this checkout's wherever it is installed), not
+    the repository's root, so its ``agents`` package does not import."""
+    return {**os.environ, "PYTHONPATH": str(ROOT / "python")}
 
 
 def run_cli(tmp_path: Path, *args: str) -> subprocess.CompletedProcess:
-    """The command as a user runs it from another folder (the repository on the path for
-    the published models' policy classes, which live in its ``agents`` package; its
-    ``python`` folder first, so the package is this checkout's wherever it is installed)."""
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT / "python"), str(ROOT)])}
+    """The command as a user runs it, from a folder outside the repository."""
     return subprocess.run(
         [sys.executable, "-m", "tactile_search.benchmark", "--no-progress", *args],
         cwd=tmp_path,
-        env=env,
+        env=outside_env(),
         capture_output=True,
         text=True,
         timeout=600,
     )
+
+
+def published_interval(run: str) -> tuple[float, float]:
+    """The 95 % Wilson interval of a published model's success on the test layouts, from
+    the published episode rows (docs/results/episodes.csv; no test layout is played here)."""
+    name_map, seed = run.rsplit("_seed", 1)
+    algo, _, map_mode = name_map.rpartition("_")
+    agent = f"{algo} ({map_mode} map, seed {seed})"
+    with (ROOT / "docs" / "results" / "episodes.csv").open() as file:
+        rows = [row for row in csv.DictReader(file) if row["agent"] == agent]
+    outcomes = [row["success"] == "True" for row in rows]
+    assert outcomes, f"no published episodes of {agent}"
+    return wilson_interval(sum(outcomes), len(outcomes))
+
+
+def test_the_repositorys_agents_package_is_not_importable_outside_it(tmp_path: Path) -> None:
+    done = subprocess.run(
+        [sys.executable, "-c", "import agents"], cwd=tmp_path, env=outside_env(),
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert done.returncode != 0
+    assert "No module named 'agents'" in done.stderr
+
+
+@pytest.mark.parametrize("run", PUBLISHED_RUNS)
+def test_a_published_model_scores_its_published_success_from_outside_the_repository(
+    tmp_path: Path, run: str
+) -> None:
+    config_map = run.rsplit("_seed", 1)[0].rpartition("_")[2]
+    out = tmp_path / "result.json"
+    done = run_cli(tmp_path, "--policy", str(MODELS / run / "model.zip"),
+                   "--episodes", str(FROM_ANYWHERE_EPISODES), "--json", str(out))  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    described = done.stdout.splitlines()[0]
+    assert described.startswith(f"tactile_search/CupboardSearch-v0, map {config_map}, "
+                                "action_mode probe, actions: the policy's mode")  # fmt: skip
+    summary = json.loads(out.read_text())["summary"]
+    assert summary["episodes"] == FROM_ANYWHERE_EPISODES
+    low, high = published_interval(run)
+    # On a few layouts the interval is wide, and overlapping the published one is what
+    # "within its interval" can mean; a map model played in the wrist mode scores 0 %.
+    assert summary["success_low"] <= high and low <= summary["success_high"], (summary, low, high)
 
 
 def test_a_published_model_runs_in_the_mode_and_map_it_was_trained_in(capsys) -> None:

@@ -20,9 +20,10 @@ from agents.sb3.bfloat16 import (
     cpu_has_amx_bf16,
     update_precision,
 )
-from agents.sb3.joint_probe_policy import Float32Linear, JointCategoricalDistribution
-from agents.sb3.recipes import load_hyperparams, load_objects, new_model, training_class
+from agents.sb3.recipes import load_hyperparams, new_model, training_class
 from agents.sb3.training_env import make_training_env
+from tactile_search.networks.joint_probe import Float32Linear, JointCategoricalDistribution
+from tactile_search.networks.recipe_classes import load_objects
 
 
 def test_amx_is_read_from_the_cpus_flags_not_from_a_substring(tmp_path: Path) -> None:

@@ -3,7 +3,8 @@ virtual environment with only its dependencies (numpy, gymnasium: no extras, no
 matplotlib), passes gymnasium's ``check_env`` (render check included), runs a rollout, and
 renders as gymnasium's convention says: without a render mode a warning and None; in
 ``rgb_array`` an RGB array drawn with numpy alone. Writing a GIF, which needs the ``plots``
-extra, raises an ImportError naming it. The benchmark API runs there too."""
+extra, raises an ImportError naming it, and so do the published agents' networks (the
+``agents`` extra). The benchmark API runs there too."""
 
 from __future__ import annotations
 
@@ -57,6 +58,12 @@ from tactile_search.benchmark import evaluate  # installed, numpy and gymnasium 
 
 result = evaluate(lambda observation: np.zeros(3, np.float32), episodes=2, map="none")
 assert result.summary.episodes == 2 and [r["seed"] for r in result.rows] == [1_000_000, 1_000_001]
+try:
+    import tactile_search.networks.spatial_probe  # the published agents' networks: torch, SB3
+except ModuleNotFoundError as error:
+    assert "tactile_search[agents]" in str(error), error
+else:
+    raise AssertionError("the networks imported without torch")
 print("clean install ok")
 """
 

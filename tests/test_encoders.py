@@ -1,5 +1,5 @@
-"""The map encoders of ``agents/sb3/encoders.py``: the spatial grid they keep, their features,
-the no-map mode, PPO training, saving and loading with them, and their argument checks."""
+"""The map encoders of ``tactile_search.networks.encoders``: the spatial grid they keep, their
+features, the no-map mode, PPO training, saving and loading with them, and their argument checks."""
 
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ sb3 = pytest.importorskip("stable_baselines3")
 from gymnasium import spaces  # noqa: E402
 from stable_baselines3.common.preprocessing import preprocess_obs  # noqa: E402
 
-from agents.sb3.encoders import (  # noqa: E402
+from tactile_search.networks.encoders import (  # noqa: E402
     ImpalaMapExtractor,
     MapExtractor,
     SpatialSoftmaxMapExtractor,
@@ -135,7 +135,7 @@ def test_a_moved_map_pixel_changes_the_map_features_only(cls: type[MapExtractor]
 
 
 def test_space_to_depth_rearranges_every_cell_and_loses_none() -> None:
-    from agents.sb3.encoders import SpaceToDepth
+    from tactile_search.networks.encoders import SpaceToDepth
 
     x = torch.arange(2 * 5 * 7, dtype=torch.float32).reshape(1, 2, 5, 7) + 1.0
     out = SpaceToDepth(2, 2)(x)
@@ -213,7 +213,7 @@ def test_ppo_trains_saves_and_loads_with_the_impala_encoder(tmp_path: Path) -> N
     np.testing.assert_allclose(loaded.predict(obs, deterministic=True)[0], action, atol=1e-6)
 
     # A fresh interpreter with only the repository on the path: the pickled class reference
-    # `agents.sb3.encoders.ImpalaMapExtractor` resolves there too.
+    # `tactile_search.networks.encoders.ImpalaMapExtractor` resolves there too.
     np.savez(tmp_path / "obs.npz", **obs)
     script = (
         "import json, sys, numpy as np\n"
@@ -252,17 +252,21 @@ def test_every_map_mode_builds_the_same_policy_class() -> None:
         assert policy.predict(obs, deterministic=True)[0].shape == (2, 3)
 
 
-def test_the_encoders_are_importable_from_the_agents_package() -> None:
-    import agents.sb3.encoders
+def test_the_encoders_are_importable_from_the_installed_package() -> None:
+    import tactile_search.networks.encoders as encoders
 
-    assert ImpalaMapExtractor.__module__ == "agents.sb3.encoders"
-    assert agents.sb3.encoders.SpatialSoftmaxMapExtractor is SpatialSoftmaxMapExtractor
+    assert ImpalaMapExtractor.__module__ == "tactile_search.networks.encoders"
+    assert encoders.SpatialSoftmaxMapExtractor is SpatialSoftmaxMapExtractor
 
 
-def test_a_recipe_naming_the_encoders_old_module_resolves_to_its_new_place() -> None:
-    from agents.sb3.recipes import algorithm_kwargs, load_objects
+@pytest.mark.parametrize("old_module", ["agents.encoders", "agents.sb3.encoders"])
+def test_a_recipe_naming_the_encoders_old_module_resolves_to_its_new_place(
+    old_module: str,
+) -> None:
+    from agents.sb3.recipes import algorithm_kwargs
+    from tactile_search.networks.recipe_classes import load_objects
 
-    recipe = {"policy_kwargs": {"features_extractor_class": "agents.encoders.ImpalaMapExtractor"}}
+    recipe = {"policy_kwargs": {"features_extractor_class": f"{old_module}.ImpalaMapExtractor"}}
     assert algorithm_kwargs(recipe)["policy_kwargs"]["features_extractor_class"] is (
         ImpalaMapExtractor
     )
@@ -315,7 +319,7 @@ def test_a_recipe_names_its_encoder_by_dotted_path(tmp_path: Path) -> None:
 
     policy_kwargs = {
         "log_std_init": -1.0,
-        "features_extractor_class": "agents.sb3.encoders.ImpalaMapExtractor",
+        "features_extractor_class": "tactile_search.networks.encoders.ImpalaMapExtractor",
         "features_extractor_kwargs": {"channels": [8, 16, 16], "map_features": 64},
     }
     run_dir = train_with_recipe(

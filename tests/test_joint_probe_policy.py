@@ -1,4 +1,4 @@
-"""The joint probe head (``agents.sb3.joint_probe_policy``): one categorical over every
+"""The joint probe head (``tactile_search.networks.joint_probe``): one categorical over every
 (lane, depth, sweep), whose actions are the probe-mode env's index triples, and which PPO
 trains as SB3's own heads."""
 
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import torch
 
-from agents.sb3.joint_probe_policy import JointCategoricalDistribution, JointProbePolicy
+from tactile_search.networks.joint_probe import JointCategoricalDistribution, JointProbePolicy
 
 DIMS = [29, 10, 9]
 

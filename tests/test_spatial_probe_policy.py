@@ -1,4 +1,4 @@
-"""The spatial probe head (``agents.sb3.spatial_probe_policy``): every probe reads the map at
+"""The spatial probe head (``tactile_search.networks.spatial_probe``): every probe reads the map at
 its own points (from the env's geometry), its logits sit at its joint index, and PPO trains,
 saves and loads it."""
 
@@ -11,14 +11,14 @@ import pytest
 import torch
 
 from agents.sb3.recipes import algorithm_class, load_hyperparams, new_model
-from agents.sb3.spatial_probe_policy import SpatialProbeHead, probe_points
 from agents.sb3.training_env import make_training_env
 from tactile_search import CupboardSearchEnv
+from tactile_search.networks.spatial_probe import SpatialProbeHead, probe_points
 
 SPATIAL = {
-    "policy": "agents.sb3.spatial_probe_policy.SpatialProbePolicy",
+    "policy": "tactile_search.networks.spatial_probe.SpatialProbePolicy",
     "policy_kwargs": {
-        "features_extractor_class": "agents.sb3.spatial_probe_policy.SpatialProbeExtractor"
+        "features_extractor_class": "tactile_search.networks.spatial_probe.SpatialProbeExtractor"
     },
 }
 
@@ -58,7 +58,7 @@ def test_a_probes_logits_sit_at_its_joint_index_and_read_its_own_features() -> N
 def test_ppo_trains_saves_and_loads_the_spatial_policy(tmp_path: Path) -> None:
     from stable_baselines3 import PPO
 
-    from agents.sb3.recipes import load_objects
+    from tactile_search.networks.recipe_classes import load_objects
 
     recipe = spatial_recipe()
     recipe.update(n_steps=8, batch_size=16, n_epochs=1)

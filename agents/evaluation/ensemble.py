@@ -11,8 +11,8 @@ to ``agents.evaluate`` as one spec, ``ensemble:RUN,RUN,...``::
     docs/results/models/ppo_gpis_seed1,docs/results/models/ppo_gpis_seed2 --scripted
 
 Members must be runs of the same algorithm, map and env settings, with a policy that holds
-one categorical over every probe (``agents.sb3.joint_probe_policy``: the spatial probe policy
-and the joint probe policy); the ensemble takes the mode of the averaged distribution.
+one categorical over every probe (``tactile_search.networks.joint_probe``: the spatial probe
+policy and the joint probe policy); the ensemble takes the mode of the averaged distribution.
 """
 
 from __future__ import annotations
@@ -44,7 +44,7 @@ class EnsembleAgent:
     probabilities. ``name``: the members' own name and their number."""
 
     def __init__(self, members: Sequence[Any]) -> None:
-        from agents.sb3.joint_probe_policy import JointCategoricalDistribution
+        from tactile_search.networks.joint_probe import JointCategoricalDistribution
 
         first = members[0]
         for member in members:

@@ -12,8 +12,9 @@ from typing import Any
 import numpy as np
 
 from agents.run_dir import CONFIG_FILE, model_path, read_run_config, run_label
-from agents.sb3.recipes import algorithm_class, load_objects
+from agents.sb3.recipes import algorithm_class
 from tactile_search.benchmark.policies import EpisodeActions, evaluation_settings
+from tactile_search.networks.recipe_classes import load_objects
 
 
 def evaluation_env_kwargs(config: dict[str, Any]) -> dict[str, Any]:

@@ -4,7 +4,6 @@ and the SB3 algorithm and its arguments they name (classes by dotted path)."""
 from __future__ import annotations
 
 import copy
-import importlib
 from pathlib import Path
 from typing import Any
 
@@ -13,6 +12,7 @@ import yaml
 from agents.run_dir import ALGORITHMS
 from tactile_search import ENV_ID
 from tactile_search._validation import as_bool
+from tactile_search.networks.recipe_classes import policy_class, policy_kwargs
 
 HYPERPARAMS_DIR = Path(__file__).parents[1] / "hyperparams"
 
@@ -101,82 +101,18 @@ def run_recipe(
     return recipe
 
 
-# A recipe names classes in its policy_kwargs by dotted path (YAML holds no classes).
-CLASS_KEYS = ("features_extractor_class", "activation_fn")
-
-
-# Modules that recipes of earlier runs name and that have moved since, old -> new: the
-# published models' config.yml and model.zip name the encoders at ``agents.encoders``.
-MOVED_MODULES = {"agents.encoders": "agents.sb3.encoders"}
-
-
 def algorithm_kwargs(recipe: dict[str, Any]) -> dict[str, Any]:
-    """The recipe's arguments for the SB3 algorithm: every key but ``RUN_KEYS``, with the
-    classes that ``policy_kwargs`` names by dotted path (``features_extractor_class:
-    agents.sb3.encoders.ImpalaMapExtractor``) imported; a module that has since moved
-    (``MOVED_MODULES``: the path a published model's ``config.yml`` recorded) is read at
-    its new place."""
+    """The recipe's arguments for the SB3 algorithm: every key but ``RUN_KEYS``, with its
+    ``policy_kwargs``' classes imported (``tactile_search.networks.recipe_classes``: a
+    module that has since moved is read at its new place)."""
     kwargs = {key: value for key, value in recipe.items() if key not in RUN_KEYS}
-    policy_kwargs = dict(kwargs.get("policy_kwargs") or {})
-    for key in CLASS_KEYS:
-        name = policy_kwargs.get(key)
-        if isinstance(name, str):
-            module, _, attribute = name.rpartition(".")
-            module = MOVED_MODULES.get(module, module)
-            try:
-                policy_kwargs[key] = getattr(importlib.import_module(module), attribute)
-            except (ImportError, AttributeError, ValueError) as err:
-                raise ValueError(
-                    f"policy_kwargs.{key} must name an importable class as module.Class, "
-                    f"got {name!r} ({type(err).__name__}: {err})"
-                ) from err
-    if getattr(policy_class(recipe), "needs_probe_points", False):
-        extractor_kwargs = dict(policy_kwargs.get("features_extractor_kwargs") or {})
-        extractor_kwargs.setdefault("probe_points", _probe_points(recipe))
-        policy_kwargs["features_extractor_kwargs"] = extractor_kwargs
-    if policy_kwargs:
-        kwargs["policy_kwargs"] = policy_kwargs
+    kwargs.pop("policy_kwargs", None)
+    classes = policy_kwargs(recipe)
+    if classes:
+        kwargs["policy_kwargs"] = classes
     return kwargs
-
-
-def _probe_points(recipe: dict[str, Any]) -> list[list[float]]:
-    """The map points of every probe of the recipe's env (``spatial_probe_policy``), from
-    its static geometry."""
-    from agents.sb3.spatial_probe_policy import probe_points
-    from tactile_search import CupboardSearchEnv
-
-    env = CupboardSearchEnv(**recipe.get("env_kwargs", {}))
-    try:
-        return probe_points(env.geometry())
-    finally:
-        env.close()
-
-
-def policy_class(recipe: dict[str, Any]) -> Any:
-    """The recipe's ``policy``: an SB3 alias (``MultiInputPolicy``) as it is, or the class a
-    dotted path names (``agents.sb3.joint_probe_policy.JointProbePolicy``)."""
-    policy = recipe.get("policy")
-    if isinstance(policy, str) and "." in policy:
-        module, _, attribute = policy.rpartition(".")
-        try:
-            return getattr(importlib.import_module(module), attribute)
-        except (ImportError, AttributeError, ValueError) as err:
-            raise ValueError(
-                f"policy must be an SB3 alias or an importable class as module.Class, got "
-                f"{policy!r} ({type(err).__name__}: {err})"
-            ) from err
-    return policy
 
 
 def new_model(cls: type, recipe: dict[str, Any], env: Any, seed: int) -> Any:
     """A fresh ``cls`` model (on the CPU) of ``recipe`` on ``env`` (``policy_class``)."""
     return cls(policy_class(recipe), env, seed=seed, device="cpu", **algorithm_kwargs(recipe))
-
-
-def load_objects(recipe: dict[str, Any]) -> dict[str, Any]:
-    """SB3's ``custom_objects`` for loading a model trained with ``recipe``: its
-    ``policy_kwargs`` with their classes imported (``algorithm_kwargs``), used instead of the
-    pickled ones in ``model.zip``, which name each class by the module it was in at training
-    time (a model trained before a module moved still loads)."""
-    policy_kwargs = algorithm_kwargs(recipe).get("policy_kwargs")
-    return {} if policy_kwargs is None else {"policy_kwargs": policy_kwargs}

@@ -54,7 +54,6 @@ from agents.sb3.callbacks import make_logger, rollout_checkpoints, wall_clock_li
 from agents.sb3.recipes import (
     ALGORITHMS,
     load_hyperparams,
-    load_objects,
     new_model,
     run_recipe,
     training_class,
@@ -63,6 +62,7 @@ from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS, make_training_env
 from tactile_search import ENV_ID
 from tactile_search._validation import as_bool, as_count, as_real
 from tactile_search.envs.config import MAP_MODES
+from tactile_search.networks.recipe_classes import load_objects
 
 # A checkpoint at the first rollout boundary after every this many env steps, and how many
 # of the newest are kept: a kill loses little work, and the checkpoints (a few MB each for a

@@ -4,8 +4,8 @@ rl-zoo3 keys a config file by env id alone, passes every key it does not know to
 algorithm and reads classes only from Python. ``zoo_hyperparams(algo, map_mode)`` turns the
 recipe of ``agents/hyperparams/<algo>.yml`` (keyed by env id, then map mode) into that: the
 run's keys rl-zoo3 knows (``n_timesteps``, ``n_envs``, ``policy``, ``env_kwargs``), the
-algorithm's arguments with the encoder classes imported (``agents.sb3.encoders``), and none
-of the project's own keys (``max_minutes``, ``deterministic_evaluation``,
+algorithm's arguments with the network classes imported (``tactile_search.networks``), and
+none of the project's own keys (``max_minutes``, ``deterministic_evaluation``,
 ``bfloat16_updates``, ``imitation``: rl-zoo3 trains the recipe's network from fresh weights
 in float32, without the clone stage of ``agents.imitation.clone_stage``).
 

@@ -53,13 +53,16 @@ def evaluation_settings(config: dict[str, Any]) -> dict[str, Any]:
 class RunConfig:
     """How a model was trained, from the ``config.yml`` of its run: its algorithm, the env
     id, the env settings it is evaluated in (its recipe's ``env_kwargs`` and ``map`` without
-    the reward terms: every agent is scored in the environment's default reward) and
-    whether its actions are the policy's mode (``deterministic_evaluation``, default true)."""
+    the reward terms: every agent is scored in the environment's default reward), whether
+    its actions are the policy's mode (``deterministic_evaluation``, default true) and the
+    recipe (``hyperparams``), whose classes the model loads with
+    (``tactile_search.networks.recipe_classes.load_objects``)."""
 
     algo: str
     env_id: str
     env_settings: dict[str, Any]
     deterministic: bool
+    recipe: dict[str, Any]
 
     @classmethod
     def beside(cls, model: Path) -> RunConfig | None:
@@ -83,6 +86,7 @@ class RunConfig:
                 env_id=str(config.get("env_id", ENV_ID)),
                 env_settings=evaluation_settings(config),
                 deterministic=bool(recipe.get("deterministic_evaluation", True)),
+                recipe=dict(recipe),
             )
         except (yaml.YAMLError, AttributeError, KeyError, TypeError) as error:
             raise ValueError(
@@ -184,6 +188,7 @@ class Sb3Policy(Sb3ModelPolicy):
             raise ValueError(f"algo must be one of {sorted(SB3_ALGORITHMS)}, got {algo!r}")
         self.algo = algo
         module_name, class_name = SB3_ALGORITHMS[algo]
+        importlib.import_module("tactile_search.networks")  # sets OMP_WAIT_POLICY before torch
         try:
             module = importlib.import_module(module_name)
         except ModuleNotFoundError as error:
@@ -192,12 +197,15 @@ class Sb3Policy(Sb3ModelPolicy):
                 "pip install 'tactile_search[agents]'",
                 name=error.name,
             ) from error
+        custom_objects = None if self.run is None else self._recipe_objects(path)
         try:
-            model = getattr(module, class_name).load(path, device="cpu")
+            model = getattr(module, class_name).load(
+                path, device="cpu", custom_objects=custom_objects
+            )
         except ModuleNotFoundError as error:
             raise ModuleNotFoundError(
-                f"{path} needs the module {error.name!r} to load (its policy's classes): run "
-                "from the repository that trained it, or install that module",
+                f"{path} needs the module {error.name!r} to load (its policy's classes): put "
+                f"its run's {RUN_CONFIG_FILE} beside it, or install that module",
                 name=error.name,
             ) from None
         except Exception as error:  # SB3 raises assertion, key, pickle and zip errors alike
@@ -206,6 +214,17 @@ class Sb3Policy(Sb3ModelPolicy):
             ) from None
         super().__init__(model, self.run.deterministic if self.run is not None else True)
         self.name = f"{algo} ({path})"
+
+    def _recipe_objects(self, path: Path) -> dict[str, Any]:
+        """SB3's ``custom_objects``: the classes of the run's recipe, imported from the
+        installed package, in place of those the model pickled (which may name the
+        repository's ``agents`` package, or a module that has moved)."""
+        from tactile_search.networks.recipe_classes import load_objects
+
+        try:
+            return load_objects(self.run.recipe)
+        except ValueError as error:
+            raise ValueError(f"{path.parent / RUN_CONFIG_FILE}: {error}") from None
 
     def check_fits(self, settings: dict[str, Any]) -> None:
         """``ValueError`` when an env of ``settings`` gives observations or takes actions of

@@ -18,7 +18,7 @@ map (``map="none"``) both reduce to the proprio features alone, so every map mod
 the same policy class::
 
     from stable_baselines3 import PPO
-    from agents.sb3.encoders import ImpalaMapExtractor
+    from tactile_search.networks.encoders import ImpalaMapExtractor
 
     model = PPO(
         "MultiInputPolicy",
@@ -33,7 +33,8 @@ The map arrives as SB3's ``preprocess_obs`` leaves it: a uint8 Box with bounds [
 an image to SB3 (``is_image_space`` skips the channel-count check by default, so the
 2-channel map qualifies) and is scaled to [0, 1] unless the policy has
 ``normalize_images=False``. Saved models pickle the class reference
-``agents.sb3.encoders.<Class>``: they load wherever this repository's ``agents`` is importable.
+``tactile_search.networks.encoders.<Class>``: they load wherever the package is installed
+with its ``agents`` extra.
 """
 
 from __future__ import annotations

@@ -13,8 +13,8 @@ into the probe's sweep logits; all of them together are one categorical over eve
 index. The value head reads the global summary.
 
 The points come from the env's static geometry (``probe_points``, written into the policy's
-arguments when the model is made, ``agents.sb3.recipes.new_model``), so a saved model keeps
-the grid it was trained on.
+arguments when the model is made: ``recipe_classes.policy_kwargs``), so a saved model
+keeps the grid it was trained on.
 """
 
 from __future__ import annotations
@@ -27,9 +27,9 @@ import numpy as np
 import torch as th
 from torch import nn
 
-from agents.sb3.encoders import ImpalaStage, MapExtractor, _positive_ints
-from agents.sb3.joint_probe_policy import Float32Linear, JointProbePolicy
 from tactile_search._validation import as_count
+from tactile_search.networks.encoders import ImpalaStage, MapExtractor, _positive_ints
+from tactile_search.networks.joint_probe import Float32Linear, JointProbePolicy
 
 
 def probe_points(geometry: dict[str, Any]) -> list[list[float]]:
@@ -78,8 +78,8 @@ class SpatialProbeExtractor(MapExtractor):
         points = np.asarray(probe_points, dtype=np.float32)
         if points.ndim != 2 or points.shape[1] != 2 or len(points) == 0 or len(points) % 2:
             raise ValueError(
-                "probe_points must be pairs of (x, y) points, two per probe (agents.sb3."
-                f"spatial_probe_policy.probe_points), got an array of shape {points.shape}"
+                "probe_points must be pairs of (x, y) points, two per probe (spatial_probe."
+                f"probe_points), got an array of shape {points.shape}"
             )
         self.channels = _positive_ints("channels", channels)
         self.res_blocks = as_count("res_blocks", res_blocks, minimum=0)
@@ -157,7 +157,8 @@ class SpatialProbePolicy(JointProbePolicy):
     policy's latent is the extractor's features as they are (``net_arch`` ``pi=[]``), the
     value's an MLP on the global summary alone."""
 
-    #: ``new_model`` writes the env's ``probe_points`` into the extractor's arguments.
+    #: ``recipe_classes.policy_kwargs`` writes the env's ``probe_points`` into the
+    #: extractor's arguments.
     needs_probe_points = True
 
     def __init__(self, observation_space: Any, action_space: Any, *args: Any, **kwargs: Any):

@@ -24,7 +24,7 @@ from torch.distributions import Categorical
 
 class Float32Linear(nn.Linear):
     """``nn.Linear`` that computes in float32 even under autocast: the layer that makes a
-    policy's logits, so a bfloat16 update (``agents.sb3.bfloat16``) does not round PPO's
+    policy's logits, so an update under bfloat16 autocast does not round PPO's
     probability ratios. Its parameters are a ``Linear``'s, under the same names."""
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
