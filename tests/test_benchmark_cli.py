@@ -140,3 +140,14 @@ def test_a_file_that_is_no_model_is_one_line(tmp_path: Path) -> None:
     assert done.returncode == 2
     assert "Traceback" not in done.stderr
     assert f"{bad} does not load as a ppo model" in done.stderr
+
+
+def test_the_api_evaluates_a_saved_model_in_its_runs_settings() -> None:
+    from tactile_search.benchmark import evaluate, load_policy
+
+    policy = load_policy(MODELS / "ppo_occupancy_seed0" / "model.zip")
+    result = evaluate(policy, episodes=2, num_envs=2, progress=False)
+    assert result.env_kwargs["map"] == "occupancy"
+    assert result.env_kwargs["action_mode"] == "probe"
+    with pytest.raises(ValueError, match="cannot run under map='none'"):
+        evaluate(policy, episodes=1, progress=False, map="none")

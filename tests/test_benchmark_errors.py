@@ -127,5 +127,7 @@ def test_a_real_sb3_model_runs_through_from_sb3() -> None:
         run(model, action_mode="probe")
     with pytest.raises(TypeError, match="returned a tuple of 2"):
         run(lambda observation: model.predict(observation), action_mode="probe")
-    with pytest.raises(ValueError, match="pass action_mode='probe'"):
+    # Without action_mode, the model's own (its action space's); another is refused.
+    assert run(from_sb3(model)).env_kwargs["action_mode"] == "probe"
+    with pytest.raises(ValueError, match="cannot run under action_mode='wrist'"):
         run(from_sb3(model), action_mode="wrist")

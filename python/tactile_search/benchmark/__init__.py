@@ -11,7 +11,11 @@ table without copying its code::
 
 ``my_policy`` is any callable from one env's observation to its action (optionally with
 ``reset(observation, info)``, called at each episode's start); a loaded stable-baselines3
-model is one through ``from_sb3(model)``. Every action must fit the env's action space
+model is one through ``from_sb3(model)``, and a saved one through ``load_policy`` (which
+reads its run's ``config.yml``, so that it runs as it was trained)::
+
+    result = evaluate(load_policy("docs/results/models/ppo_gpis_seed0/model.zip"))
+ Every action must fit the env's action space
 (``action_mode="wrist"`` or ``"probe"``): one that does not is refused, not clipped
 (``tactile_search.benchmark.checks``). The layouts come from the one
 place that defines the splits (``tactile_search.seed_ranges``): every choice is made on
@@ -21,7 +25,7 @@ stable-baselines3 ``model.zip``). Needs only numpy and gymnasium (a model.zip ne
 ``agents`` extra).
 """
 
-from tactile_search.benchmark.policies import from_sb3
+from tactile_search.benchmark.policies import from_sb3, load_policy
 from tactile_search.benchmark.runner import ROW_KEYS, BenchmarkResult, episode_row, evaluate
 from tactile_search.benchmark.statistics import Summary, summarize, wilson_interval
 
@@ -32,6 +36,7 @@ __all__ = [
     "episode_row",
     "evaluate",
     "from_sb3",
+    "load_policy",
     "summarize",
     "wilson_interval",
 ]

@@ -93,17 +93,15 @@ def main(argv: list[str] | None = None) -> BenchmarkResult:
     overridden = dict(args.env)
     try:
         policy = load_policy(args.policy, args.algo)
-        trained = dict(getattr(policy, "env_settings", {}))
-        if isinstance(policy, Sb3Policy):
-            policy.check_fits({**trained, **overridden})
         actions = (
             "the policy's own"
             if not isinstance(policy, Sb3Policy)
             else ("the policy's mode" if policy.deterministic else "sampled from the policy")
         )
+        # A model.zip runs in its run's settings, each --env overriding one (evaluate).
         result = evaluate(
             policy, args.split, args.episodes, final=args.final, name=args.name,
-            num_envs=args.num_envs, progress=not args.no_progress, **{**trained, **overridden},
+            num_envs=args.num_envs, progress=not args.no_progress, **overridden,
         )  # fmt: skip
     except Exception as error:  # one line, never a traceback: the user's input is at fault
         message = " ".join(str(error).split()) or type(error).__name__

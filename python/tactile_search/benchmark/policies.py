@@ -17,12 +17,14 @@ from __future__ import annotations
 import copy
 import dataclasses
 import importlib
+import os
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from tactile_search import ENV_ID
+from tactile_search.benchmark.checks import action_mode
 from tactile_search.envs.config import REWARD_KEYS
 
 #: SB3 algorithms a model.zip may hold, by the name ``--algo`` takes: (module, class).
@@ -95,9 +97,15 @@ class RunConfig:
             ) from None
 
 
-def load_policy(spec: str, algo: str | None = None) -> Any:
-    """The policy ``spec`` names (see the module docstring); ``algo`` overrides a model's
-    run config only where they agree (``ValueError`` otherwise)."""
+def load_policy(spec: str | os.PathLike, algo: str | None = None) -> Any:
+    """The policy ``spec`` names (see the module docstring): for a ``model.zip``, an
+    ``Sb3Policy`` that ``evaluate`` runs in the settings its run was trained in. ``algo``
+    overrides a model's run config only where they agree (``ValueError`` otherwise)."""
+    if not isinstance(spec, (str, os.PathLike)):
+        raise TypeError(
+            f"policy must be 'module:callable' or a path to an SB3 model.zip, got {spec!r}"
+        )
+    spec = os.fspath(spec)
     if spec.endswith(".zip"):
         return Sb3Policy(Path(spec), algo)
     module_name, sep, attribute = spec.partition(":")
@@ -125,7 +133,8 @@ def from_sb3(model: Any, deterministic: bool = True) -> Sb3ModelPolicy:
     Its action is ``model.predict(observation, deterministic=deterministic)[0]``; a
     recurrent model (``RecurrentPPO``) gets its LSTM state carried from step to step and
     cleared at each episode's start (``reset``). Nothing is imported from SB3: any object
-    with that ``predict`` will do. Evaluate it in the action mode it was trained in."""
+    with that ``predict`` and an ``action_space`` will do. ``evaluate`` runs it in the
+    action mode of its action space (``env_settings``); name the map it was trained on."""
     if not callable(getattr(model, "predict", None)):
         raise TypeError(
             f"from_sb3 takes a loaded SB3 model (an object with .predict), got {model!r}"
@@ -153,6 +162,31 @@ class Sb3ModelPolicy:
         twin = copy.copy(self)
         twin._actions = EpisodeActions(self.model, recurrent=_recurrent(self.model))
         return twin
+
+    @property
+    def env_settings(self) -> dict[str, Any]:
+        """The settings the model runs in as far as it says: its action space's mode (none
+        for a stand-in without an ``action_space``)."""
+        space = getattr(self.model, "action_space", None)
+        return {} if space is None else {"action_mode": action_mode(space)}
+
+    def check_fits(self, settings: dict[str, Any]) -> None:
+        """``ValueError`` when an env of ``settings`` gives observations or takes actions of
+        other spaces than the model's (a map the model never saw, another action mode); a
+        space the model does not state is not compared."""
+        from tactile_search.envs.cupboard_search import CupboardSearchEnv
+
+        env = CupboardSearchEnv(threads=1, **settings)  # starts no episode
+        for what, ours, theirs in (
+            ("observations", env.observation_space, getattr(self.model, "observation_space", None)),
+            ("actions", env.action_space, getattr(self.model, "action_space", None)),
+        ):
+            if theirs is not None and ours != theirs:
+                given = ", ".join(f"{k}={v!r}" for k, v in settings.items()) or "the defaults"
+                raise ValueError(
+                    f"the model cannot run under {given}: it was trained on {what} {theirs}, "
+                    f"and this env's are {ours}"
+                )
 
     def reset(self, observation: dict, info: dict) -> None:
         self._actions.reset()
@@ -226,27 +260,11 @@ class Sb3Policy(Sb3ModelPolicy):
         except ValueError as error:
             raise ValueError(f"{path.parent / RUN_CONFIG_FILE}: {error}") from None
 
-    def check_fits(self, settings: dict[str, Any]) -> None:
-        """``ValueError`` when an env of ``settings`` gives observations or takes actions of
-        other spaces than the model's (a map the model never saw, another action mode)."""
-        from tactile_search.envs.cupboard_search import CupboardSearchEnv
-
-        env = CupboardSearchEnv(threads=1, **settings)  # starts no episode
-        for what, ours, theirs in (
-            ("observations", env.observation_space, self.model.observation_space),
-            ("actions", env.action_space, self.model.action_space),
-        ):
-            if ours != theirs:
-                given = ", ".join(f"{k}={v!r}" for k, v in settings.items()) or "the defaults"
-                raise ValueError(
-                    f"the model cannot run under {given}: it was trained on {what} {theirs}, "
-                    f"and this env's are {ours}"
-                )
-
     @property
     def env_settings(self) -> dict[str, Any]:
-        """The env settings the model was trained in (none without a run config)."""
-        return {} if self.run is None else dict(self.run.env_settings)
+        """The env settings the model was trained in: its run config's, else its action
+        space's mode."""
+        return super().env_settings if self.run is None else dict(self.run.env_settings)
 
 
 class EpisodeActions:

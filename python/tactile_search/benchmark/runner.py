@@ -51,9 +51,10 @@ def episode_row(seed: int, info: dict[str, Any], actions: int, reward: float) ->
 
 @dataclasses.dataclass(frozen=True)
 class BenchmarkResult:
-    """An evaluation's rows (one dict per episode, in the split's seed order) and their
+    """An evaluation's rows (one dict per episode, in the split's seed order), their
     summary (success with its 95 % Wilson interval, steps to success, tips, displacement
-    within successful episodes, final IoU)."""
+    within successful episodes, final IoU), and the env settings it ran in (the policy's
+    own, then those given)."""
 
     rows: list[dict[str, Any]]
     summary: Summary
@@ -92,7 +93,11 @@ def evaluate(
         num_envs: episodes side by side (default: the cores, at most ``episodes``).
         progress: show a progress bar on stderr (tqdm's if installed).
         **env_kwargs: the env's settings (``map``, ``action_mode``, ...), as ``gym.make``
-            takes them; the reward terms do not change the rows' success and metrics.
+            takes them; the reward terms do not change the rows' success and metrics. A
+            policy that knows the settings it was trained in (``env_settings``, a dict: a
+            ``model.zip`` from ``load_policy`` has its run's, ``from_sb3`` its model's action
+            mode) runs in them, each of ``env_kwargs`` overriding one; its ``check_fits``,
+            if any, refuses settings whose spaces are not the model's (``ValueError``).
     """
     if split == "test" and not final:
         lo, hi = TEST
@@ -101,6 +106,10 @@ def evaluate(
             "pass final=True only for that evaluation; make every choice on 'validation'"
         )
     check_policy(policy)
+    env_kwargs = {**dict(getattr(policy, "env_settings", None) or {}), **env_kwargs}
+    check_fits = getattr(policy, "check_fits", None)
+    if callable(check_fits):
+        check_fits(env_kwargs)
     seeds = held_out_seeds(split, episodes)
     stateful = callable(getattr(policy, "reset", None))
     rows = run_on_seeds(
