@@ -151,3 +151,17 @@ def test_the_api_evaluates_a_saved_model_in_its_runs_settings() -> None:
     assert result.env_kwargs["action_mode"] == "probe"
     with pytest.raises(ValueError, match="cannot run under map='none'"):
         evaluate(policy, episodes=1, progress=False, map="none")
+
+
+def test_a_published_model_without_its_run_config_says_what_it_needs(tmp_path: Path) -> None:
+    # Its pickled classes name the repository's agents package, not importable here; the
+    # run's config.yml, which names them for the installed package, is what it needs.
+    alone = tmp_path / "alone" / "model.zip"
+    alone.parent.mkdir()
+    alone.write_bytes((MODELS / "ppo_gpis_seed0" / "model.zip").read_bytes())
+    done = run_cli(tmp_path, "--policy", str(alone), "--episodes", "1")
+    assert done.returncode == 2
+    assert "Traceback" not in done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1, done.stderr
+    assert "needs the module 'agents'" in done.stderr
+    assert "config.yml beside it" in done.stderr
