@@ -150,7 +150,7 @@ def test_an_unknown_keyword_names_the_env_and_the_closest_settings(make: object)
     assert "got an unexpected keyword argument 'max_step'" in message
     assert "did you mean 'max_steps'" in message
     assert "CupboardSearchConfig" not in message
-    with pytest.raises(TypeError, match=r"the settings are max_steps, \w+, \w+"):
+    with pytest.raises(TypeError, match=r"the settings are task, max_steps, \w+"):
         make(zzzzzz=1)  # type: ignore[operator]
 
 

@@ -18,7 +18,7 @@ import pytest
 from gymnasium.error import ResetNeeded
 from gymnasium.vector import AutoresetMode, SyncVectorEnv
 
-import tactile_search  # noqa: F401  (registers the environment)
+import tactile_search  # registers the environments
 from tactile_search import CupboardSearchVectorEnv
 from tactile_search.envs.config import MAP_MODES
 
@@ -29,16 +29,16 @@ SHORT = {"max_steps": 6}
 
 
 def pair(
-    autoreset_mode: AutoresetMode = AutoresetMode.NEXT_STEP, **settings: Any
+    autoreset_mode: AutoresetMode = AutoresetMode.NEXT_STEP, env_id: str = ENV_ID, **settings: Any
 ) -> tuple[gym.vector.VectorEnv, gym.vector.VectorEnv]:
     """Ours (through ``make_vec``) and the ``SyncVectorEnv`` of the single env."""
     settings = {**SHORT, **settings}
     ours = gym.make_vec(
-        ENV_ID, num_envs=NUM_ENVS, vectorization_mode="vector_entry_point",
+        env_id, num_envs=NUM_ENVS, vectorization_mode="vector_entry_point",
         autoreset_mode=autoreset_mode, **settings,
     )  # fmt: skip
     sync = SyncVectorEnv(
-        [lambda: gym.make(ENV_ID, **settings) for _ in range(NUM_ENVS)],
+        [lambda: gym.make(env_id, **settings) for _ in range(NUM_ENVS)],
         autoreset_mode=autoreset_mode,
     )
     return ours, sync
@@ -83,6 +83,21 @@ def test_next_step_autoreset_equals_sync_vector_env(mode: str, action_mode: str)
     ours, sync = pair(map=mode, action_mode=action_mode)
     assert_identical(ours.reset(seed=7), sync.reset(seed=7), "reset")
     assert run_both(ours, sync, steps=20, seed=1) >= NUM_ENVS  # autoresets were crossed
+    ours.close()
+    sync.close()
+
+
+@pytest.mark.parametrize("env_id", [i for i in tactile_search.ENV_IDS if i != ENV_ID])
+@pytest.mark.parametrize("action_mode", ["wrist", "probe"])
+def test_every_registered_id_equals_sync_vector_env_and_pickles(
+    env_id: str, action_mode: str
+) -> None:
+    ours, sync = pair(env_id=env_id, action_mode=action_mode)
+    assert ours.unwrapped.config == sync.envs[0].unwrapped.config
+    assert_identical(ours.reset(seed=5), sync.reset(seed=5), "reset")
+    assert run_both(ours, sync, steps=12, seed=3) >= NUM_ENVS
+    copy = pickle.loads(pickle.dumps(ours.unwrapped))
+    run_both(copy, sync, steps=8, seed=4)
     ours.close()
     sync.close()
 

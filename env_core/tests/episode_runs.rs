@@ -4,8 +4,8 @@ mod common;
 use common::observe;
 
 use env_core::episode::{
-    oracle_action, Command, Episode, EpisodeBatch, EpisodeConfig, EpisodeError, MapMode, StepInfo,
-    PROPRIO_LEN,
+    oracle_action, oracle_motion, Command, Episode, EpisodeBatch, EpisodeConfig, EpisodeError,
+    MapMode, StepInfo, PROPRIO_LEN,
 };
 use env_core::settings::Checked;
 use env_core::settings::SettingError;
@@ -152,7 +152,7 @@ fn the_batch_equals_single_episodes_whatever_the_thread_count() {
             for step in 0..15 {
                 let actions: Vec<[f64; 3]> = singles
                     .iter()
-                    .map(|e| oracle_action(e).map(|v| 0.7 * v))
+                    .map(|e| oracle_motion(e).map(|v| 0.7 * v))
                     .collect();
                 let commands: Vec<_> = actions
                     .iter()

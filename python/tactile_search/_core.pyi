@@ -210,6 +210,12 @@ class SceneSettings(TypedDict, total=False):
 class EpisodeSettings(SceneSettings, total=False):
     """Every setting of ``EpisodeConfig`` by key (``EpisodeConfig.settings()``)."""
 
+    task: Literal["search", "identify"]
+    """What the episode asks: 'search' (v0: a touch of the hidden target succeeds) or 'identify'
+    (the target is the only jar of its shape, target_shape, among jars of the other; a touch
+    of it pays nothing, and the episode ends with a claim, the action's 4th entry, naming the
+    jar the finger touches). Default 'search'.
+    """
     max_steps: int
     """Episode length: the time limit (truncation) and the scale of the time-left entry of the
     proprioception. Default 200. Range [1, inf).
@@ -312,6 +318,10 @@ class EpisodeSettings(SceneSettings, total=False):
     step costs it saves (max_steps times reward_step_cost = 2 at the defaults), or knocking a
     jar over early is the cheapest way out of a hard layout. Default 3.0. Range [0, inf).
     """
+    reward_wrong_claim: float
+    """Paid (negated) when a claim (the identify task) names a jar other than the target, or no
+    jar; a correct claim is paid reward_success. Default 1.0. Range [0, inf).
+    """
     reward_approach: float
     """Shaping, per metre the fingertip's path distance to the target shrinks in a step: over an
     episode it adds reward_approach times (start distance - final distance), so it also pays
@@ -325,6 +335,7 @@ def observation_layout() -> dict[str, list[dict[str, Any]]]: ...
 def step_info_fields() -> list[dict[str, str]]: ...
 def gpis_defaults() -> dict[str, float | int]: ...
 def allocated_bytes() -> int: ...
+def registered_envs() -> list[dict[str, Any]]: ...
 
 class GpisCore:
     """The Rust GPIS behind ``tactile_search.Gpis``; prefer that class. The constructor checks
@@ -543,6 +554,18 @@ class EpisodeBatch:
     def action_scale(self) -> tuple[float, float]: ...
     @property
     def map_bounds(self) -> tuple[tuple[float, float], tuple[float, float]]: ...
+    @property
+    def action_mode(self) -> str: ...
+    @property
+    def task(self) -> str: ...
+    @property
+    def action_len(self) -> int: ...
+    @property
+    def probe_counts(self) -> tuple[int, int, int] | None: ...
+    @property
+    def probe_nvec(self) -> list[int] | None: ...
+    @property
+    def claim_threshold(self) -> float: ...
 
 Bounds = tuple[tuple[float, float], tuple[float, float]]
 # A jars dict as ``Scene.jars`` returns it: shapes, positions (J, 2|3), half_widths, yaws.

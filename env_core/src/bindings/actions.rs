@@ -6,42 +6,55 @@
 //! its dtype is integer or real float, a cast to float64 (a complex, string, datetime,
 //! boolean or object action is refused). A probe's indices are integers: an int64 array is
 //! read in place, any other integer array-like cast to int64, and a float one refused with
-//! a `TypeError`. Cost O(N).
+//! a `TypeError`. Each row becomes an action by the core's rule
+//! ([`Action::from_wrist_row`], [`Action::from_probe_row`]: a 4th entry, the claim, where
+//! the task claims). Cost O(N).
 
 use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 
 use super::errors::{shape_text, type_name, wrong_shape, wrong_value};
-use crate::episode::{Action, ActionMode};
+use crate::episode::action_mode::action_len;
+use crate::episode::{Action, ActionMode, EpisodeError};
 
-/// Reads `value` as actions of `mode` of `shape` (`[3]` for one action, `[n, 3]` for a
-/// batch); `what` names it in errors ("action" or "actions").
+/// Reads `value` as the actions of `episodes` episodes of `mode` (None: one action, of
+/// shape `[len]`; Some(n): a batch of shape `[n, len]`, `len` 3, or 4 where the task
+/// `claims`); `what` names it in errors ("action" or "actions"). A row the core refuses
+/// (a bad claim entry) is a `ValueError` naming its episode in a batch.
 pub(crate) fn actions_of(
     what: &str,
     value: &Bound<'_, PyAny>,
-    shape: &[usize],
+    episodes: Option<usize>,
     mode: ActionMode,
+    claims: bool,
 ) -> PyResult<Vec<Action>> {
-    Ok(match mode {
-        ActionMode::Wrist => action_rows(what, value, shape)?
-            .into_iter()
-            .map(Action::Wrist)
+    let len = action_len(claims);
+    let shape: Vec<usize> = episodes.into_iter().chain([len]).collect();
+    let in_batch = |i: usize, e: EpisodeError| match episodes {
+        Some(_) => PyErr::from(e.in_episode(i)),
+        None => PyErr::from(e),
+    };
+    match mode {
+        ActionMode::Wrist => action_rows(what, value, &shape)?
+            .chunks_exact(len)
+            .enumerate()
+            .map(|(i, row)| Action::from_wrist_row(row, claims).map_err(|e| in_batch(i, e)))
             .collect(),
-        ActionMode::Probe => probe_rows(what, value, shape)?
-            .into_iter()
-            .map(Action::Probe)
+        ActionMode::Probe => probe_rows(what, value, &shape)?
+            .chunks_exact(len)
+            .enumerate()
+            .map(|(i, row)| Action::from_probe_row(row, claims).map_err(|e| in_batch(i, e)))
             .collect(),
-    })
+    }
 }
 
-/// Reads `value` as integer probe indices of `shape` into rows of 3.
-fn probe_rows(what: &str, value: &Bound<'_, PyAny>, shape: &[usize]) -> PyResult<Vec<[i64; 3]>> {
+/// Reads `value` as integer probe indices of `shape`, flat.
+fn probe_rows(what: &str, value: &Bound<'_, PyAny>, shape: &[usize]) -> PyResult<Vec<i64>> {
     if let Ok(array) = value.cast::<PyArrayDyn<i64>>() {
         check_shape(what, array.shape(), shape)?;
         let array = array.try_readonly().map_err(|e| unreadable(what, e))?;
-        let flat: Vec<i64> = array.as_array().iter().copied().collect();
-        return Ok(flat.chunks_exact(3).map(|r| [r[0], r[1], r[2]]).collect());
+        return Ok(array.as_array().iter().copied().collect());
     }
     let array = value
         .py()
@@ -63,14 +76,13 @@ fn not_integers(what: &str, value: &Bound<'_, PyAny>, dtype: Option<&str>) -> Py
         None => type_name(value),
     };
     PyTypeError::new_err(format!(
-        "{what} must be integers in the probe action mode (lane, depth and sweep indices, 3 \
-         per env), got {got}"
+        "{what} must be integers in the probe action mode (lane, depth and sweep indices, \
+         and the claim index where the task claims), got {got}"
     ))
 }
 
-/// Reads `value` as an array of `shape` (`[3]` for one action, `[n, 3]` for a batch) into
-/// rows of 3 wrist motions; `what` names it in errors ("action" or "actions").
-fn action_rows(what: &str, value: &Bound<'_, PyAny>, shape: &[usize]) -> PyResult<Vec<[f64; 3]>> {
+/// Reads `value` as a float64 array of `shape`, flat; `what` names it in errors.
+fn action_rows(what: &str, value: &Bound<'_, PyAny>, shape: &[usize]) -> PyResult<Vec<f64>> {
     let flat = if let Ok(array) = value.cast::<PyArrayDyn<f64>>() {
         check_shape(what, array.shape(), shape)?;
         let array = array.try_readonly().map_err(|e| unreadable(what, e))?;
@@ -108,7 +120,7 @@ fn action_rows(what: &str, value: &Bound<'_, PyAny>, shape: &[usize]) -> PyResul
         }
         return action_rows(what, &converted, shape);
     };
-    Ok(flat.chunks_exact(3).map(|r| [r[0], r[1], r[2]]).collect())
+    Ok(flat)
 }
 
 fn check_shape(what: &str, got: &[usize], expected: &[usize]) -> PyResult<()> {
@@ -119,7 +131,7 @@ fn check_shape(what: &str, got: &[usize], expected: &[usize]) -> PyResult<()> {
     }
 }
 
-const NUMERIC: &str = "numeric with 3 entries per env";
+const NUMERIC: &str = "numeric, a row of entries per env";
 
 fn unreadable(what: &str, error: impl std::fmt::Display) -> PyErr {
     wrong_value(what, "a readable array", error)

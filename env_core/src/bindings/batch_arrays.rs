@@ -60,7 +60,7 @@ impl BatchArrays {
             let (block, kind) = match field.value {
                 InfoValue::Float(_) => (floats.as_any(), 0),
                 InfoValue::Flag(_) => (flags.as_any(), 1),
-                InfoValue::Count(_) => (counts.as_any(), 2),
+                InfoValue::Count(_) | InfoValue::Index(_) => (counts.as_any(), 2),
             };
             info.set_item(field.name, block.get_item(next[kind])?)?;
             next[kind] += 1;

@@ -21,10 +21,12 @@ use super::episode_config::PyEpisodeConfig;
 use super::errors::{episode_index_error, wrong_type, wrong_value};
 use super::exclusive::Exclusive;
 use super::step_info::info_dict;
+use crate::episode::action_mode::action_len;
 use crate::episode::maps::GridValues;
 use crate::episode::metrics::{footprint_of, footprints_mask};
 use crate::episode::{
-    oracle_action, ActionMode, Command, EpisodeBatch, EpisodeConfig, EpisodeError, PROPRIO_LEN,
+    oracle_action, ActionMode, Claim, Command, EpisodeBatch, EpisodeConfig, EpisodeError,
+    PROPRIO_LEN,
 };
 use crate::gpis::GridSpec;
 use crate::scene::JarState;
@@ -101,8 +103,13 @@ impl PyEpisodeBatch {
     /// A step for every episode, with its row of `actions` (N, 3) read in the batch's
     /// action mode.
     fn step_commands(&self, actions: &Bound<'_, PyAny>) -> PyResult<Vec<Command>> {
-        let shape = [self.num_envs, 3];
-        let actions = actions_of("actions", actions, &shape, self.config.action_mode)?;
+        let actions = actions_of(
+            "actions",
+            actions,
+            Some(self.num_envs),
+            self.config.action_mode,
+            self.config.task.claims(),
+        )?;
         Ok(actions.into_iter().map(Command::Step).collect())
     }
 }
@@ -329,7 +336,13 @@ impl PyEpisodeBatch {
                 format!("{} episodes", self.num_envs),
             ));
         }
-        let rows = actions_of("action", action, &[3], self.config.action_mode)?;
+        let rows = actions_of(
+            "action",
+            action,
+            None,
+            self.config.action_mode,
+            self.config.task.claims(),
+        )?;
         let commands = [Command::Step(rows[0])];
         let mut state = self.state.lock()?;
         let state = &mut *state;
@@ -358,8 +371,9 @@ impl PyEpisodeBatch {
         ))
     }
 
-    /// The oracle's actions (N, 3): it knows the target (the upper-bound baseline). Wrist
-    /// motions: `ValueError` in the `probe` action mode.
+    /// The oracle's actions (N, action_len): it knows the target (the upper-bound
+    /// baseline). Wrist motions, and a claim once it touches the target where the task
+    /// claims: `ValueError` in the `probe` action mode.
     fn oracle_actions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         if self.config.action_mode != ActionMode::Wrist {
             return Err(wrong_value(
@@ -368,15 +382,20 @@ impl PyEpisodeBatch {
                 self.config.action_mode.name(),
             ));
         }
+        let claims = self.config.task.claims();
         let flat: Vec<f64> = self
             .state
             .lock()?
             .inner
             .episodes()
             .iter()
-            .flat_map(oracle_action)
+            .flat_map(|episode| {
+                oracle_action(episode)
+                    .to_wrist_row(claims)
+                    .expect("the oracle acts in the wrist mode")
+            })
             .collect();
-        PyArray1::from_vec(py, flat).reshape([self.num_envs, 3])
+        PyArray1::from_vec(py, flat).reshape([self.num_envs, action_len(claims)])
     }
 
     /// The metrics of episode `index`'s last reset or step, as a dict of Python scalars.
@@ -556,11 +575,40 @@ impl PyEpisodeBatch {
         self.config.action_mode.name()
     }
 
-    /// The `probe` action mode's index counts `(lanes, depths, sweeps)`: its
-    /// `MultiDiscrete` space's `nvec` (None in the `wrist` mode).
+    /// The `probe` action mode's index counts `(lanes, depths, sweeps)` (None in the
+    /// `wrist` mode).
     #[getter]
     fn probe_counts(&self) -> Option<[usize; 3]> {
         (self.config.action_mode == ActionMode::Probe).then(|| self.config.probe.counts())
+    }
+
+    /// `"search"` or `"identify"`: what the episode asks.
+    #[getter]
+    fn task(&self) -> &'static str {
+        self.config.task.name()
+    }
+
+    /// Entries of one action: 3, and the claim entry (4) where the task claims. In the
+    /// `probe` mode the claim entry's count is `Claim.PROBE_CHOICES` (2: probe or claim);
+    /// in the `wrist` mode it claims above `claim_threshold`.
+    #[getter]
+    fn action_len(&self) -> usize {
+        action_len(self.config.task.claims())
+    }
+
+    /// The `MultiDiscrete` space's `nvec` in the `probe` mode: the probe counts, and the
+    /// claim entry's where the task claims (None in the `wrist` mode).
+    #[getter]
+    fn probe_nvec(&self) -> Option<Vec<usize>> {
+        let counts = self.probe_counts()?;
+        let claim = self.config.task.claims().then_some(Claim::PROBE_CHOICES);
+        Some(counts.into_iter().chain(claim).collect())
+    }
+
+    /// The wrist mode's claim entry claims above this value (where the task claims).
+    #[getter]
+    fn claim_threshold(&self) -> f64 {
+        Claim::WRIST_THRESHOLD
     }
 
     /// The hand's largest translation (m) and yaw (rad) per step: the action scale.

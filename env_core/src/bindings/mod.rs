@@ -26,6 +26,7 @@ mod geometry;
 mod gpis;
 mod observation;
 mod prior;
+mod registry;
 mod scene;
 mod settings;
 mod step_info;
@@ -53,6 +54,7 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     prior::register(m)?;
     m.add_function(wrap_pyfunction!(observation::observation_layout, m)?)?;
     m.add_function(wrap_pyfunction!(step_info::step_info_fields, m)?)?;
+    m.add_function(wrap_pyfunction!(registry::registered_envs, m)?)?;
     m.add_function(wrap_pyfunction!(allocated_bytes, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -28,7 +28,9 @@ pub(crate) fn info_dict<'py>(py: Python<'py>, info: &StepInfo) -> PyResult<Bound
         match field.value {
             InfoValue::Float(get) => d.set_item(field.name, get(info))?,
             InfoValue::Flag(get) => d.set_item(field.name, get(info))?,
-            InfoValue::Count(get) => d.set_item(field.name, get(info))?,
+            InfoValue::Count(_) | InfoValue::Index(_) => {
+                d.set_item(field.name, field.value.integer(info))?
+            }
         }
     }
     Ok(d)

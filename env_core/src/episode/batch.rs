@@ -460,7 +460,7 @@ mod tests {
                 .iter()
                 .map(|e| match e.last_info().terminated {
                     true => Command::Hold,
-                    false => Command::Step(oracle_action(e).into()),
+                    false => Command::Step(oracle_action(e)),
                 })
                 .collect();
             batch.run(&commands, &mut [], &mut proprio).unwrap();

@@ -6,9 +6,10 @@
 use super::action_mode::ActionMode;
 use super::maps::MapConfig;
 use super::probe_config::{check_sweep_rate, ProbeConfig};
-use crate::scene::SceneConfig;
+use super::task::Task;
+use crate::scene::{SceneConfig, TargetShape};
 use crate::settings;
-use crate::settings::{Range, SettingError};
+use crate::settings::{Choice, Range, SettingError};
 
 settings! {
     /// Reward weights. Each term is reported on its own in the step info.
@@ -25,6 +26,9 @@ settings! {
         /// than the step costs it saves (max_steps times reward_step_cost = 2 at the
         /// defaults), or knocking a jar over early is the cheapest way out of a hard layout.
         tip: f64 = 3.0 => "reward_tip" in Range::NON_NEGATIVE,
+        /// Paid (negated) when a claim (the identify task) names a jar other than the
+        /// target, or no jar; a correct claim is paid reward_success.
+        wrong_claim: f64 = 1.0 => "reward_wrong_claim" in Range::NON_NEGATIVE,
         /// Shaping, per metre the fingertip's path distance to the target shrinks in a step:
         /// over an episode it adds reward_approach times (start distance - final distance),
         /// so it also pays for ending nearer the target and, with discounting, for getting
@@ -39,6 +43,11 @@ settings! {
     /// One episode's configuration: its own settings, then the map, the reward and the
     /// scene.
     pub struct EpisodeConfig {
+        /// What the episode asks: 'search' (v0: a touch of the hidden target succeeds) or
+        /// 'identify' (the target is the only jar of its shape, target_shape, among jars of
+        /// the other; a touch of it pays nothing, and the episode ends with a claim, the
+        /// action's 4th entry, naming the jar the finger touches).
+        task: Task = Task::Search => "task" in Range::FINITE,
         /// Episode length: the time limit (truncation) and the scale of the time-left entry
         /// of the proprioception.
         max_steps: usize = 200 => "max_steps" in Range::AT_LEAST_ONE,
@@ -63,10 +72,46 @@ settings! {
     check_across = check_across;
 }
 
-/// The grid's cells must be square, and a probe's sweep no faster than the hand turns.
+/// The grid's cells must be square, a probe's sweep no faster than the hand turns, and the
+/// task's target one that its rule can tell apart.
 fn check_across(c: &EpisodeConfig) -> Result<(), SettingError> {
     check_grid(c)?;
-    check_sweep_rate(&c.probe, &c.scene.hand)
+    check_sweep_rate(&c.probe, &c.scene.hand)?;
+    check_task(c)
+}
+
+/// In the identify task the target is known by its shape alone: it must be the only jar of
+/// its shape, so target_shape names one and round_fraction gives every other jar the other.
+fn check_task(c: &EpisodeConfig) -> Result<(), SettingError> {
+    if c.task != Task::Identify {
+        return Ok(());
+    }
+    let layout = &c.scene.layout;
+    let others_round = match layout.target_shape {
+        TargetShape::Square => 1.0,
+        TargetShape::Round => 0.0,
+        TargetShape::Any => {
+            return Err(SettingError::out_of_range(
+                "target_shape",
+                "'square' or 'round' in the identify task (the target is the only jar of its \
+                 shape)",
+                "'any'",
+            ))
+        }
+    };
+    if layout.round_fraction == others_round {
+        Ok(())
+    } else {
+        Err(SettingError::out_of_range(
+            "round_fraction",
+            format!(
+                "{others_round} in the identify task with target_shape='{}' (every other jar \
+                 of the other shape, so that the shape names the target)",
+                layout.target_shape.name()
+            ),
+            layout.round_fraction,
+        ))
+    }
 }
 
 /// The grid's cells must be square over the cupboard's interior.

@@ -7,7 +7,8 @@
 //! (the time limit `max_steps` is the episode's own) and metrics. Everything map-specific
 //! is the map mode's ([`super::maps::AgentMap`]): the episode never asks which mode it is.
 //! In the `probe` action mode a step is a whole probe: the controller's wrist motions, each
-//! such a step, with their rewards summed ([`super::probe`]).
+//! such a step, with their rewards summed ([`super::probe`]). The task ([`super::task`])
+//! says what succeeds: a touch of the target (search) or a claim naming it (identify).
 
 use std::sync::Arc;
 
@@ -22,6 +23,7 @@ use super::metrics::footprint_mask;
 use super::observation::{proprio, PROPRIO_LEN};
 use super::probe::{Phase, ProbeController};
 use super::step_info::StepInfo;
+use super::task::claimed_jar;
 use crate::gpis::{run_each, Gpis, GridSpec, SerialTiles, TileRunner};
 use crate::scene::{Contact, HandCommand, Scene, SceneConfig};
 use crate::settings::{Checked, Choice};
@@ -50,6 +52,9 @@ pub struct Episode {
     /// The map's IoU against the truth, until the map or the truth changes.
     iou: Option<f64>,
     approach: ApproachField,
+    /// The fingertip's path distance to the target after the last step (the approach
+    /// shaping's potential; the info shows it only where the task reveals the target).
+    target_distance: f64,
     /// Where a reset's two independent pieces (the approach field, the map's prior) and
     /// the map's grid updates run: this thread, or a batch's idle threads too.
     tiles: Arc<dyn TileRunner>,
@@ -85,6 +90,7 @@ impl Episode {
             truth_poses: Vec::new(),
             iou: None,
             approach: ApproachField::default(),
+            target_distance: 0.0,
             tiles: Arc::new(SerialTiles),
             probes,
             last_info: StepInfo::default(),
@@ -175,6 +181,7 @@ impl Episode {
         self.add_touch();
         let (mut info, _) = self.measure();
         info.iou = self.current_iou();
+        self.target_distance = self.distance_to_target();
         self.last_info = info;
         Ok(())
     }
@@ -235,15 +242,37 @@ impl Episode {
         self.displacement_sum = info.jar_displacement;
         info.tipped = info.tips > 0;
         let target = self.scene().target();
-        info.success = self.scene().true_contacts().iter().any(|c| c.jar == target);
-        let finger = self.scene().finger_pose();
-        let length = self.config.scene.hand.finger_length;
-        info.target_distance = self
-            .approach
-            .distance(fingertip(finger.x, finger.y, finger.yaw, length));
+        info.success = self.config.task.touch_succeeds()
+            && self.scene().true_contacts().iter().any(|c| c.jar == target);
+        if self.config.task.reveals_target() {
+            info.target_distance = self.distance_to_target();
+        }
         info.gpis_rows = self.map.rows();
         // `info.iou` is the step's, filled in once its last motion is made (`current_iou`).
         (info, added)
+    }
+
+    /// The jar a claim would name now: of the jars the finger touches, the one whose contact
+    /// lies nearest the fingertip (ground truth; None when it touches no jar).
+    pub fn touched_jar(&self) -> Option<usize> {
+        let contacts = self
+            .scene()
+            .true_contacts()
+            .iter()
+            .map(|c| (c.point, c.jar));
+        claimed_jar(contacts, self.fingertip())
+    }
+
+    /// Where the fingertip is now.
+    fn fingertip(&self) -> [f64; 2] {
+        let finger = self.scene().finger_pose();
+        let length = self.config.scene.hand.finger_length;
+        fingertip(finger.x, finger.y, finger.yaw, length)
+    }
+
+    /// The fingertip's path distance to the target now, m.
+    fn distance_to_target(&self) -> f64 {
+        self.approach.distance(self.fingertip())
     }
 
     /// The map's IoU with the jars' true footprints now. Resting jars do not move and most
@@ -285,15 +314,19 @@ impl Episode {
         self.advance(action)
     }
 
-    /// Fails on an action of the other mode, a non-finite motion, or a probe index
-    /// outside its count.
+    /// Fails on an action of the other mode, a non-finite motion, a probe index outside
+    /// its count, or a claim in a task that takes none.
     pub(crate) fn check_action(&self, action: &Action) -> Result<(), EpisodeError> {
         match (action, self.config.action_mode) {
             (Action::Wrist(motion), ActionMode::Wrist) => check_finite(motion),
             (Action::Probe(indices), ActionMode::Probe) => self.probes.check(indices),
+            (Action::Claim, _) if self.config.task.claims() => Ok(()),
+            (Action::Claim, _) => Err(EpisodeError::ClaimOutsideIdentify {
+                task: self.config.task.name(),
+            }),
             (action, mode) => Err(EpisodeError::WrongActionMode {
                 expected: mode.name(),
-                got: action.mode().name(),
+                got: action.mode().map_or("claim", ActionMode::name),
             }),
         }
     }
@@ -311,6 +344,7 @@ impl Episode {
         let mut info = match action {
             Action::Wrist(motion) => self.move_wrist(motion)?,
             Action::Probe(indices) => self.probe(indices)?,
+            Action::Claim => self.claim(),
         };
         info.iou = self.current_iou();
         self.last_info = info;
@@ -349,6 +383,29 @@ impl Episode {
         Ok(total)
     }
 
+    /// A claim (the identify task): names the jar the finger touches now, the one whose
+    /// contact lies nearest the fingertip, and ends the episode, a success if it is the
+    /// target; no motion, no step of the time limit. Its info without the IoU.
+    fn claim(&mut self) -> StepInfo {
+        let claimed = self.touched_jar();
+        let (mut info, _) = self.measure();
+        let weights = &self.config.reward;
+        info.claimed_jar = claimed;
+        info.success = claimed == Some(self.scene().target());
+        info.wrong_claim = !info.success;
+        info.reward_success = if info.success { weights.success } else { 0.0 };
+        info.reward_wrong_claim = if info.wrong_claim {
+            -weights.wrong_claim
+        } else {
+            0.0
+        };
+        info.reward = info.reward_success + info.reward_wrong_claim;
+        info.terminated = true;
+        self.ended = true;
+        self.last_info = info;
+        info
+    }
+
     /// One wrist motion (the `wrist` mode's step), its info without the IoU (`advance` adds
     /// the step's).
     fn move_wrist(&mut self, action: [f64; 3]) -> Result<StepInfo, EpisodeError> {
@@ -365,9 +422,10 @@ impl Episode {
         self.steps += 1;
         let (contacts, rows_added, contacts_skipped, contacts_dropped) = self.add_touch();
         let (mut info, added_displacement) = self.measure();
+        let distance = self.distance_to_target();
         let weights = &self.config.reward;
-        info.reward_approach =
-            weights.approach * (self.last_info.target_distance - info.target_distance);
+        info.reward_approach = weights.approach * (self.target_distance - distance);
+        self.target_distance = distance;
         info.reward_success = if info.success { weights.success } else { 0.0 };
         info.reward_step = -weights.step_cost;
         info.reward_displacement = -weights.displacement * added_displacement;

@@ -21,7 +21,7 @@ pub enum EpisodeError {
     /// An action component was NaN or infinite.
     #[error("action[{index}] must be finite, got {value}")]
     NonFiniteAction {
-        /// Component index (0 = dx, 1 = dy, 2 = dyaw).
+        /// Component index (0 = dx, 1 = dy, 2 = dyaw, 3 = claim).
         index: usize,
         /// Value given.
         value: f64,
@@ -29,10 +29,11 @@ pub enum EpisodeError {
     /// A `probe` mode action component is not an index within its count.
     #[error(
         "action[{index}] must be an integer from 0 to {} (the probe action mode's \
-         [lane, depth, sweep] indices), got {value}", count.saturating_sub(1)
+         [lane, depth, sweep] indices, then the claim index where the task claims), got \
+         {value}", count.saturating_sub(1)
     )]
     ProbeIndex {
-        /// Component index (0 = lane, 1 = depth, 2 = sweep).
+        /// Component index (0 = lane, 1 = depth, 2 = sweep, 3 = claim).
         index: usize,
         /// Value given.
         value: i64,
@@ -47,6 +48,12 @@ pub enum EpisodeError {
         expected: &'static str,
         /// The action's mode.
         got: &'static str,
+    },
+    /// A claim in a task that takes none (only `identify` does).
+    #[error("a claim is an action of the identify task; this episode's task is '{task}'")]
+    ClaimOutsideIdentify {
+        /// The episode's task.
+        task: &'static str,
     },
     /// `step` was called on an episode that no reset has started.
     #[error("the episode has not started; call reset() before stepping")]

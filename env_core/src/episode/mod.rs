@@ -15,6 +15,8 @@
 //! - [`action_mode`]: what an action means (a wrist motion or a probe per step).
 //! - [`probe`]: the `probe` action mode's controller (a lane, depth and sweep per step,
 //!   carried out motion by motion); [`probe_config`]: its settings.
+//! - [`registry`]: the registered environment ids, each a task and tier as settings.
+//! - [`task`]: what the episode asks (search, identify) and the claim's rules.
 //! - [`oracle`]: a scripted searcher that knows the target (the upper bound).
 //! - [`Episode`]: reset, step, observations.
 //! - [`EpisodeBatch`]: many episodes stepped on all cores.
@@ -34,8 +36,10 @@ pub mod oracle;
 pub mod outline;
 pub mod probe;
 pub mod probe_config;
+pub mod registry;
 pub mod static_geometry;
 pub mod step_info;
+pub mod task;
 
 pub use action_mode::{Action, ActionMode};
 pub use batch::{Command, EpisodeBatch};
@@ -44,8 +48,9 @@ pub use episode::Episode;
 pub use error::EpisodeError;
 pub use maps::{MapConfig, MapMode};
 pub use observation::{decode_proprio, Quantity, PROPRIO_FIELDS, PROPRIO_LEN};
-pub use oracle::oracle_action;
+pub use oracle::{oracle_action, oracle_motion};
 pub use probe::{Probe, ProbeController, ProbeGrid};
 pub use probe_config::ProbeConfig;
 pub use static_geometry::StaticGeometry;
 pub use step_info::{StepInfo, STEP_INFO_FIELDS};
+pub use task::{Claim, Task};

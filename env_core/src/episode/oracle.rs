@@ -1,8 +1,10 @@
 //! A scripted oracle that knows the target: the upper-bound baseline, and the proof that
 //! episodes are solvable. It drives the wrist to the generated layout's corridor, straight
-//! in to the target's depth, then turns the finger towards the target until it touches.
+//! in to the target's depth, then turns the finger towards the target until it touches; in
+//! a task that claims it then claims the jar it touches, the target.
 //! Stateless: the phase follows from the wrist's pose, so it can take over mid-episode.
 
+use super::action_mode::Action;
 use super::episode::Episode;
 
 /// Wrist clearance from the corridor's edge, m.
@@ -10,9 +12,20 @@ const CLEARANCE: f64 = 0.002;
 /// Yaw per step while turning towards the target, rad.
 const TURN: f64 = 0.02;
 
-/// The oracle's next action in the environment's units ([−1, 1]³). Without a corridor (a
-/// hand-made layout) it heads straight for the target's depth.
-pub fn oracle_action(episode: &Episode) -> [f64; 3] {
+/// The oracle's next action: a wrist motion in the environment's units ([−1, 1]³), or, in a
+/// task that claims, a claim once the finger touches the target.
+pub fn oracle_action(episode: &Episode) -> Action {
+    let target = episode.scene().target();
+    if episode.config().task.claims() && episode.touched_jar() == Some(target) {
+        Action::Claim
+    } else {
+        Action::Wrist(oracle_motion(episode))
+    }
+}
+
+/// The oracle's next wrist motion ([−1, 1]³). Without a corridor (a hand-made layout) it
+/// heads straight for the target's depth.
+pub fn oracle_motion(episode: &Episode) -> [f64; 3] {
     let scene = episode.scene();
     let hand = &episode.config().scene.hand;
     let layout = scene.layout();

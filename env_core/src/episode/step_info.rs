@@ -10,9 +10,10 @@
 /// reward terms are the sums of theirs.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct StepInfo {
-    /// Total reward: the sum of the five terms below.
+    /// Total reward: the sum of the six terms below.
     pub reward: f64,
-    /// `reward.success` when the finger touched the target this step, else 0.
+    /// `reward.success` when the episode succeeded this step (the finger touched the target;
+    /// in the identify task, a claim named it), else 0.
     pub reward_success: f64,
     /// `−reward.step_cost` per wrist motion.
     pub reward_step: f64,
@@ -24,12 +25,20 @@ pub struct StepInfo {
     /// `reward.approach ·` how much the fingertip's path distance to the target shrank
     /// this step (a difference of potentials, see `approach`; 0 at the default weight).
     pub reward_approach: f64,
-    /// The episode ended (success or a tipped jar).
+    /// `−reward.wrong_claim` when a claim named a jar other than the target, or none.
+    pub reward_wrong_claim: f64,
+    /// The episode ended (success, a tipped jar or a claim).
     pub terminated: bool,
     /// The time limit ended the episode: `steps >= max_steps` and not terminated.
     pub truncated: bool,
-    /// The finger touched the target.
+    /// The episode succeeded: the finger touched the target (search), a claim named it
+    /// (identify).
     pub success: bool,
+    /// A claim named a jar other than the target, or none (identify).
+    pub wrong_claim: bool,
+    /// The jar a claim named this step (its index in the layout), None without a claim or
+    /// when the finger touched no jar.
+    pub claimed_jar: Option<usize>,
     /// A jar tipped over.
     pub tipped: bool,
     /// Wrist motions since reset (the steps of the time limit).
@@ -38,7 +47,8 @@ pub struct StepInfo {
     pub jar_displacement: f64,
     /// Largest jar displacement since reset, m.
     pub max_jar_displacement: f64,
-    /// The fingertip's path distance to the target now, m (see [`super::approach`]).
+    /// The fingertip's path distance to the target now, m (see [`super::approach`]); 0 in
+    /// a task that keeps the target secret (identify).
     pub target_distance: f64,
     /// Largest jar tilt now, rad.
     pub max_tilt: f64,
@@ -77,6 +87,7 @@ impl StepInfo {
             reward_displacement: self.reward_displacement + next.reward_displacement,
             reward_tip: self.reward_tip + next.reward_tip,
             reward_approach: self.reward_approach + next.reward_approach,
+            reward_wrong_claim: self.reward_wrong_claim + next.reward_wrong_claim,
             contacts: self.contacts + next.contacts,
             rows_added: self.rows_added + next.rows_added,
             contacts_skipped: self.contacts_skipped + next.contacts_skipped,
@@ -98,6 +109,20 @@ pub enum InfoValue {
     Flag(fn(&StepInfo) -> bool),
     /// A count (int64).
     Count(fn(&StepInfo) -> usize),
+    /// An index that may be absent (int64, -1 when absent).
+    Index(fn(&StepInfo) -> Option<usize>),
+}
+
+impl InfoValue {
+    /// The value of an integer field (a count or an index) as int64: an absent index is -1.
+    /// None for a float or a flag.
+    pub fn integer(&self, info: &StepInfo) -> Option<i64> {
+        match self {
+            Self::Count(get) => Some(get(info) as i64),
+            Self::Index(get) => Some(get(info).map_or(-1, |i| i as i64)),
+            Self::Float(_) | Self::Flag(_) => None,
+        }
+    }
 }
 
 /// One key of `info`.
@@ -116,7 +141,7 @@ impl InfoField {
         match self.value {
             InfoValue::Float(_) => "float64",
             InfoValue::Flag(_) => "bool",
-            InfoValue::Count(_) => "int64",
+            InfoValue::Count(_) | InfoValue::Index(_) => "int64",
         }
     }
 }
@@ -139,10 +164,13 @@ info_fields! {
     reward_displacement: Float, "-reward_displacement times the jar displacement added this step";
     reward_tip: Float, "-reward_tip when a jar tipped over this step, else 0";
     reward_approach: Float, "reward_approach times the shrink of target_distance this step";
-    target_distance: Float, "the fingertip's path distance to the target, m";
-    success: Flag, "the finger touched the target";
+    reward_wrong_claim: Float, "-reward_wrong_claim when a claim named a jar other than the target, or none";
+    target_distance: Float, "the fingertip's path distance to the target, m (0 in the identify task, which keeps the target secret)";
+    success: Flag, "the episode succeeded: the finger touched the target (search), a claim named it (identify)";
+    wrong_claim: Flag, "a claim named a jar other than the target, or none (identify)";
     tipped: Flag, "a jar tipped over";
     steps: Count, "wrist motions since reset (the time limit counts them)";
+    claimed_jar: Index, "the jar a claim named this step, by its index in the layout; -1 without a claim or with no jar touched";
     jar_displacement: Float, "planar displacement since reset, summed over jars, m";
     max_jar_displacement: Float, "largest jar displacement since reset, m";
     max_tilt: Float, "largest jar tilt now, rad";
@@ -165,7 +193,7 @@ pub fn info_counts() -> (usize, usize, usize) {
         .fold((0, 0, 0), |(f, b, c), field| match field.value {
             InfoValue::Float(_) => (f + 1, b, c),
             InfoValue::Flag(_) => (f, b + 1, c),
-            InfoValue::Count(_) => (f, b, c + 1),
+            InfoValue::Count(_) | InfoValue::Index(_) => (f, b, c + 1),
         })
 }
 
@@ -196,8 +224,8 @@ impl InfoColumns<'_> {
                     self.flags[b * self.n + i] = get(info);
                     b += 1;
                 }
-                InfoValue::Count(get) => {
-                    self.counts[c * self.n + i] = get(info) as i64;
+                InfoValue::Count(_) | InfoValue::Index(_) => {
+                    self.counts[c * self.n + i] = field.value.integer(info).unwrap_or_default();
                     c += 1;
                 }
             }
@@ -247,7 +275,7 @@ mod tests {
             match field.value {
                 InfoValue::Float(_) => f += 1,
                 InfoValue::Flag(_) => b += 1,
-                InfoValue::Count(_) => c += 1,
+                InfoValue::Count(_) | InfoValue::Index(_) => c += 1,
             }
         }
         assert_eq!(

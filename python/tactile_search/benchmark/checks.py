@@ -43,10 +43,20 @@ def action_mode(space: spaces.Space) -> str:
     return "probe" if isinstance(space, spaces.MultiDiscrete) else "wrist"
 
 
+#: The entries of an action, by action mode: the claim entry comes 4th where the task
+#: claims (``task="identify"``).
+ENTRIES = {"wrist": ("dx", "dy", "dyaw", "claim"), "probe": ("lane", "depth", "sweep", "claim")}
+
+
+def _entries(space: spaces.Space) -> str:
+    """The names of the entries of an action of ``space``: ``dx, dy, dyaw`` and so on."""
+    return ", ".join(ENTRIES[action_mode(space)][: int(np.prod(space.shape))])
+
+
 def _describe(space: spaces.Space) -> str:
     if isinstance(space, spaces.MultiDiscrete):
-        return f"MultiDiscrete({space.nvec}) (action_mode='probe': lane, depth, sweep indices)"
-    return f"Box(-1, 1, {space.shape}) (action_mode='wrist': dx, dy, dyaw)"
+        return f"MultiDiscrete({space.nvec}) (action_mode='probe': {_entries(space)} indices)"
+    return f"Box(-1, 1, {space.shape}) (action_mode='wrist': {_entries(space)})"
 
 
 def _shown(action: np.ndarray) -> str:
@@ -96,7 +106,7 @@ class ActionCheck:
         if self.mode == "probe":
             if kind not in "iu":
                 raise TypeError(
-                    f"action_mode='probe' takes integer indices (lane, depth, sweep) of "
+                    f"action_mode='probe' takes integer indices ({_entries(self.space)}) of "
                     f"MultiDiscrete({self._nvec}); the policy returned {action.dtype} values "
                     f"{_shown(action)}. Wrist motions in [-1, 1] need action_mode='wrist'; "
                     "indices held as floats need .astype(int)"
@@ -109,8 +119,9 @@ class ActionCheck:
             return action
         if kind not in "iuf":
             raise TypeError(
-                f"action_mode='wrist' takes 3 real numbers in [-1, 1] (dx, dy, dyaw); the "
-                f"policy returned {action.dtype} values {_shown(action)}"
+                f"action_mode='wrist' takes {len(self._bounds)} real numbers in [-1, 1] "
+                f"({_entries(self.space)}); the policy returned {action.dtype} values "
+                f"{_shown(action)}"
             )
         if not self._inside(action):  # NaN too: its comparisons are False
             hint = (
@@ -119,9 +130,9 @@ class ActionCheck:
                 else ""
             )
             raise ValueError(
-                f"action_mode='wrist' takes 3 finite numbers in [-1, 1] (dx, dy, dyaw); the "
-                f"policy returned {_shown(action)} (refused, not clipped: the env would clip "
-                f"it and score a different policy).{hint}"
+                f"action_mode='wrist' takes {len(self._bounds)} finite numbers in [-1, 1] "
+                f"({_entries(self.space)}); the policy returned {_shown(action)} (refused, "
+                f"not clipped: the env would clip it and score a different policy).{hint}"
             )
         return action
 

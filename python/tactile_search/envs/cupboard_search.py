@@ -37,11 +37,12 @@ def observation_space(config: CupboardSearchConfig, proprio_len: int) -> spaces.
 def action_space(batch: Any) -> spaces.Space:
     """The action space of one environment of ``batch`` (a ``_core.EpisodeBatch``): the
     ``wrist`` mode's ``Box(-1, 1, (3,))``, or the ``probe`` mode's ``MultiDiscrete`` over the
-    core's (lanes, depths, sweeps) counts."""
-    counts = batch.probe_counts
-    if counts is None:
-        return spaces.Box(-1.0, 1.0, (3,), np.float32)
-    return spaces.MultiDiscrete(np.asarray(counts, dtype=np.int64))
+    core's (lanes, depths, sweeps) counts; where the task claims (``identify``), each with
+    the core's claim entry 4th (``Box(-1, 1, (4,))``, ``MultiDiscrete([..., 2])``)."""
+    nvec = batch.probe_nvec
+    if nvec is None:
+        return spaces.Box(-1.0, 1.0, (batch.action_len,), np.float32)
+    return spaces.MultiDiscrete(np.asarray(nvec, dtype=np.int64))
 
 
 class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
@@ -190,7 +191,9 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
         # As the core steps them: float64 wrist motions (a float32 action replays exactly),
         # int64 probe indices.
         probe = self._batch.probe_counts is not None
-        self._actions = np.empty((0, 3), dtype=np.int64 if probe else np.float64)
+        self._actions = np.empty(
+            (0, self._batch.action_len), dtype=np.int64 if probe else np.float64
+        )
         self._steps_taken = 0
 
     def reset(
@@ -208,7 +211,7 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
     def step(self, action: Any) -> tuple[dict, float, bool, bool, dict]:
         if self._episode_seed is None:
             raise ResetNeeded("CupboardSearchEnv: call reset() before step()")
-        # One call: the core checks the action once (shape (3,); finite motions, integer
+        # One call: the core checks the action once (its shape; finite motions, integer
         # probe indices within their counts; TypeError or ValueError naming what came) and
         # returns fresh observation arrays and an info dict of scalars.
         result = self._batch.step_single(action)
@@ -221,7 +224,8 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
 
     def _grow_actions(self) -> None:
         """Doubles the storage of the episode's actions."""
-        grown = np.empty((max(2 * len(self._actions), 64), 3), dtype=self._actions.dtype)
+        rows = max(2 * len(self._actions), 64)
+        grown = np.empty((rows, self._actions.shape[1]), dtype=self._actions.dtype)
         grown[: self._steps_taken] = self._actions[: self._steps_taken]
         self._actions = grown
 

@@ -20,10 +20,10 @@ INITIAL_ROWS = 64
 class EpisodeLog:
     """Each slot's layout seed and the actions of its episode so far."""
 
-    def __init__(self, num_envs: int, dtype: Any) -> None:
+    def __init__(self, num_envs: int, dtype: Any, action_len: int) -> None:
         self.seeds: list[int | None] = [None] * num_envs  # None: the slot was never reset
         self._start = np.zeros(num_envs, dtype=np.int64)  # each episode's first row
-        self._rows = np.zeros((INITIAL_ROWS, num_envs, 3), dtype=dtype)
+        self._rows = np.zeros((INITIAL_ROWS, num_envs, action_len), dtype=dtype)
         self._count = 0
 
     def began(self, resets: list[tuple[int, int]]) -> None:
@@ -35,7 +35,7 @@ class EpisodeLog:
 
     def stepped(self, actions: Any, resets: list[tuple[int, int]] | None = None) -> None:
         """One batch step: the slots in ``resets`` began new episodes (their action ignored),
-        the others took their row of ``actions`` (``(N, 3)``)."""
+        the others took their row of ``actions`` (``(N, action_len)``)."""
         if self._count == len(self._rows):
             self._make_room()
         self._rows[self._count] = actions
@@ -57,7 +57,8 @@ class EpisodeLog:
         self._count -= first
 
     def episodes(self) -> list[tuple[int | None, np.ndarray]]:
-        """Per slot, its layout seed and its actions since the reset, ``(steps, 3)``."""
+        """Per slot, its layout seed and its actions since the reset, ``(steps,
+        action_len)``."""
         return [
             (seed, self._rows[start : self._count, index].copy())
             for index, (seed, start) in enumerate(zip(self.seeds, self._start, strict=True))

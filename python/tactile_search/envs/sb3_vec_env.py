@@ -95,7 +95,7 @@ class CupboardSearchSb3VecEnv(VecEnv):
         self._new_seeds(num_envs)
         self._batch = self.config.make_batch(num_envs, threads=threads)
         probe = self._batch.probe_counts is not None
-        self._log = EpisodeLog(num_envs, np.int64 if probe else np.float64)
+        self._log = EpisodeLog(num_envs, np.int64 if probe else np.float64, self._batch.action_len)
         self.render_mode = render_mode
         self._sub_envs = [EpisodeView(self, index) for index in range(num_envs)]
         super().__init__(
@@ -103,7 +103,7 @@ class CupboardSearchSb3VecEnv(VecEnv):
             observation_space(self.config, self._batch.proprio_len),
             action_space(self._batch),
         )
-        self._actions: Any = np.zeros((num_envs, 3))
+        self._actions: Any = np.zeros((num_envs, self._batch.action_len))
         #: Set by ``close()``: the env then refuses ``reset`` and stepping.
         self.closed = False
 

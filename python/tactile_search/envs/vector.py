@@ -156,7 +156,7 @@ class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
         # The actions as the core steps them: float64 wrist motions (a float32 action
         # replays exactly), int64 probe indices.
         probe = self._batch.probe_counts is not None
-        self._log = EpisodeLog(num_envs, np.int64 if probe else np.float64)
+        self._log = EpisodeLog(num_envs, np.int64 if probe else np.float64, self._batch.action_len)
         self._all_reset = False  # every sub-env reset at least once
         # The step's info with its masks, the batch's own arrays (copy=False: built once).
         self._mask_keys = mask_keys(tuple(self._batch.info_arrays()))
