@@ -101,6 +101,12 @@ fn bad_explicit_layouts_are_refused() {
         target,
         corridor: None,
         visibility: Visibility::default(),
+        decoys: Vec::new(),
+        decoy_corridors: Vec::new(),
+    };
+    let with_decoys = |target: usize, decoys: Vec<usize>| Layout {
+        decoys,
+        ..layout(vec![jar(-0.1, 0.1), jar(0.0, 0.1), jar(0.1, 0.1)], target)
     };
     for (bad, needle) in [
         (layout(vec![jar(0.0, 0.1), jar(0.01, 0.1)], 0), "overlap"),
@@ -108,6 +114,12 @@ fn bad_explicit_layouts_are_refused() {
         (layout(vec![jar(0.29, 0.1)], 0), "inside the interior"),
         (layout(vec![], 0), "1 to 7 jars"),
         (layout(vec![jar(f64::NAN, 0.1)], 0), "non-finite"),
+        (with_decoys(0, vec![3]), "decoy indices must be < 3"),
+        (with_decoys(1, vec![1]), "not the target's (1)"),
+        (
+            with_decoys(0, vec![2, 1]),
+            "decoy indices must be increasing",
+        ),
     ] {
         match Scene::from_layout(&Checked::new(SceneConfig::default()).unwrap(), bad, 0) {
             Ok(_) => panic!("accepted a bad layout ({needle})"),

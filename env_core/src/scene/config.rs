@@ -54,6 +54,9 @@ settings! {
 /// explicit layout is checked against ([`super::layout::Layout::check`]).
 pub const MAX_JARS: usize = 7;
 
+/// Most hidden decoys a layout holds: the top of `hidden_decoys`' range.
+pub const MAX_HIDDEN_DECOYS: usize = 3;
+
 settings! {
     /// The seeded layout generator: jar population, target hiding and the corridor to it.
     pub struct LayoutConfig {
@@ -78,6 +81,12 @@ settings! {
         max_visible_fraction: f64 = 0.10 => "max_visible_fraction" in Range::UNIT,
         /// The target's centre is at least this deep (y), m.
         target_min_depth: f64 = 0.17 => "target_min_depth" in Range::NON_NEGATIVE_LENGTH,
+        /// Non-target jars hidden like the target (0 to 3): each at least target_min_depth
+        /// deep, behind its own occluder, at most max_visible_fraction visible and with its
+        /// own corridor, so that neither the camera nor reachability tells the target from
+        /// them. Each needs two jars (itself and its occluder): jar_count's low end must be
+        /// at least 2 + 2 * hidden_decoys.
+        hidden_decoys: usize = 0 => "hidden_decoys" in Range::closed(0.0, MAX_HIDDEN_DECOYS as f64),
         /// Minimum gap between the bounding circles of two jars, m.
         min_gap: f64 = 0.008 => "min_gap" in Range::NON_NEGATIVE_LENGTH,
         /// Minimum gap between a jar's bounding circle and a side or back wall, m.
@@ -90,7 +99,28 @@ settings! {
         max_attempts: usize = 2000 => "max_attempts" in Range::AT_LEAST_ONE,
     }
     sections {}
-    check_across = |_| Ok(());
+    check_across = check_layout;
+}
+
+/// Every hidden jar (the target and each decoy) has its own occluder, so even the smallest
+/// layout must hold two jars per hidden jar.
+fn check_layout(c: &LayoutConfig) -> Result<(), SettingError> {
+    let fewest = c.jar_count[0];
+    let needed = 2 + 2 * c.hidden_decoys;
+    if c.hidden_decoys > 0 && fewest < needed {
+        return Err(SettingError::out_of_range(
+            "hidden_decoys",
+            format!(
+                "at most {} for jar_count {:?}: the target and each hidden decoy need an \
+                 occluder in front of them, so jar_count's low end must be at least \
+                 2 + 2 * hidden_decoys ({needed})",
+                fewest.saturating_sub(2) / 2,
+                c.jar_count,
+            ),
+            c.hidden_decoys,
+        ));
+    }
+    Ok(())
 }
 
 settings! {
