@@ -52,7 +52,7 @@ settings! {
 
 /// Most jars a layout holds, target included: the top of `jar_count`'s range, and what an
 /// explicit layout is checked against ([`super::layout::Layout::check`]).
-pub const MAX_JARS: usize = 7;
+pub const MAX_JARS: usize = 16;
 
 /// Most hidden decoys a layout holds: the top of `hidden_decoys`' range.
 pub const MAX_HIDDEN_DECOYS: usize = 3;

@@ -1,5 +1,5 @@
 //! The cupboard scene in rapier3d (`docs/DESIGN.md` §2; paper §IV.A): one shelf compartment,
-//! 3–7 dynamic spice jars with a hidden target (and optionally hidden decoys), a
+//! 3–7 (up to 16) dynamic spice jars with a hidden target (and optionally hidden decoys), a
 //! pinhole depth camera for the first look, and the Exploratory Hand whose compliant finger
 //! senses contacts.
 //!
