@@ -11,15 +11,17 @@
 //!   the side and back walls;
 //! - every corridor (an axis-aligned lane `corridor_width` wide, from the opening `y = 0` to
 //!   its hidden jar's far side, its inner edge `corridor_clearance` beside that jar) holds no
-//!   part of any jar's bounding circle, widened by `min_gap`;
+//!   part of any other jar's bounding circle, widened by `min_gap`;
 //! - every hidden jar's visible fraction (see [`super::visibility`]) is at most
 //!   `max_visible_fraction`.
 //!
 //! The hidden jars (the target, then the decoys) and their occluders are each drawn once per
-//! attempt, and an attempt is dropped as soon as one does not fit: the hidden jars' positions
-//! are then drawn from one distribution conditioned on one symmetric set of constraints, so
-//! the target's place among them tells nothing. The remaining jars are drawn by rejection
-//! within the attempt.
+//! attempt, and an attempt is dropped as soon as one does not fit (no retry within it): the
+//! kept positions of the hidden jars are then independent draws from one distribution,
+//! conditioned on constraints that treat every hidden jar alike, so the target's place among
+//! them tells nothing beyond its size (the target's shape and size are drawn like a decoy's
+//! when `target_shape` is 'any'). The remaining jars are drawn by rejection within the
+//! attempt.
 
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
