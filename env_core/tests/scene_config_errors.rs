@@ -27,10 +27,10 @@ fn bad_configs_are_refused_with_the_users_key_in_the_message() {
         .to_string()
         .contains("jar_count must be a pair (low, high)"));
     let mut c = SceneConfig::default();
-    c.layout.jar_count = [3, 8];
+    c.layout.jar_count = [3, 17];
     assert!(error_of(c)
         .to_string()
-        .contains("jar_count must be an int from 1 to 7"));
+        .contains("jar_count must be an int from 1 to 16"));
     let mut c = SceneConfig::default();
     c.camera.noise_std = -1.0;
     assert!(error_of(c)
@@ -101,13 +101,25 @@ fn bad_explicit_layouts_are_refused() {
         target,
         corridor: None,
         visibility: Visibility::default(),
+        decoys: Vec::new(),
+        decoy_corridors: Vec::new(),
+    };
+    let with_decoys = |target: usize, decoys: Vec<usize>| Layout {
+        decoys,
+        ..layout(vec![jar(-0.1, 0.1), jar(0.0, 0.1), jar(0.1, 0.1)], target)
     };
     for (bad, needle) in [
         (layout(vec![jar(0.0, 0.1), jar(0.01, 0.1)], 0), "overlap"),
         (layout(vec![jar(0.0, 0.1)], 1), "target index"),
         (layout(vec![jar(0.29, 0.1)], 0), "inside the interior"),
-        (layout(vec![], 0), "1 to 7 jars"),
+        (layout(vec![], 0), "1 to 16 jars"),
         (layout(vec![jar(f64::NAN, 0.1)], 0), "non-finite"),
+        (with_decoys(0, vec![3]), "decoy indices must be < 3"),
+        (with_decoys(1, vec![1]), "not the target's (1)"),
+        (
+            with_decoys(0, vec![2, 1]),
+            "decoy indices must be increasing",
+        ),
     ] {
         match Scene::from_layout(&Checked::new(SceneConfig::default()).unwrap(), bad, 0) {
             Ok(_) => panic!("accepted a bad layout ({needle})"),

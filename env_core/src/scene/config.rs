@@ -52,10 +52,14 @@ settings! {
 
 /// Most jars a layout holds, target included: the top of `jar_count`'s range, and what an
 /// explicit layout is checked against ([`super::layout::Layout::check`]).
-pub const MAX_JARS: usize = 7;
+pub const MAX_JARS: usize = 16;
+
+/// Most hidden decoys a layout holds: the top of `hidden_decoys`' range.
+pub const MAX_HIDDEN_DECOYS: usize = 3;
 
 settings! {
-    /// The seeded layout generator: jar population, target hiding and the corridor to it.
+    /// The seeded layout generator: jar population, hiding the target (and any decoys) and
+    /// the corridors to them.
     pub struct LayoutConfig {
         /// Range of the number of jars, target included (an int n means exactly n).
         jar_count: [usize; 2] = [3, 7] => "jar_count" in Range::closed(1.0, MAX_JARS as f64),
@@ -73,24 +77,53 @@ settings! {
         jar_mass: [f64; 2] = [0.10, 0.20] => "jar_mass" in Range::PHYSICAL,
         /// Friction coefficient of the jars.
         jar_friction: f64 = 0.5 => "jar_friction" in Range::NON_NEGATIVE,
-        /// Upper bound on the target's visible fraction: visible silhouette pixels over
-        /// silhouette pixels, both by ray casting through the depth camera's pixel grid.
+        /// Upper bound on the visible fraction of the target (and of each hidden decoy):
+        /// visible silhouette pixels over silhouette pixels, both by ray casting through the
+        /// depth camera's pixel grid.
         max_visible_fraction: f64 = 0.10 => "max_visible_fraction" in Range::UNIT,
-        /// The target's centre is at least this deep (y), m.
+        /// The centre of the target (and of each hidden decoy) is at least this deep (y), m.
         target_min_depth: f64 = 0.17 => "target_min_depth" in Range::NON_NEGATIVE_LENGTH,
+        /// Non-target jars hidden like the target: each at least target_min_depth deep,
+        /// behind its own occluder, at most max_visible_fraction visible and with its own
+        /// corridor, so that neither the camera nor reachability tells the target from them.
+        /// Each needs two jars (itself and its occluder): jar_count's low end must be at
+        /// least 2 + 2 * hidden_decoys.
+        hidden_decoys: usize = 0 => "hidden_decoys" in Range::closed(0.0, MAX_HIDDEN_DECOYS as f64),
         /// Minimum gap between the bounding circles of two jars, m.
         min_gap: f64 = 0.008 => "min_gap" in Range::NON_NEGATIVE_LENGTH,
         /// Minimum gap between a jar's bounding circle and a side or back wall, m.
         wall_gap: f64 = 0.008 => "wall_gap" in Range::NON_NEGATIVE_LENGTH,
-        /// Width of the jar-free corridor from the opening to the target's side, m.
+        /// Width of the jar-free corridor from the opening to the side of the target (and of
+        /// each hidden decoy), m.
         corridor_width: f64 = 0.07 => "corridor_width" in Range::LENGTH,
-        /// Gap between the target's side and the corridor's inner edge, m.
+        /// Gap between a hidden jar's side and its corridor's inner edge, m.
         corridor_clearance: f64 = 0.005 => "corridor_clearance" in Range::NON_NEGATIVE_LENGTH,
         /// Attempts before the layout generator gives up.
         max_attempts: usize = 2000 => "max_attempts" in Range::AT_LEAST_ONE,
     }
     sections {}
-    check_across = |_| Ok(());
+    check_across = check_layout;
+}
+
+/// Every hidden jar (the target and each decoy) has its own occluder, so even the smallest
+/// layout must hold two jars per hidden jar.
+fn check_layout(c: &LayoutConfig) -> Result<(), SettingError> {
+    let fewest = c.jar_count[0];
+    let needed = 2 + 2 * c.hidden_decoys;
+    if c.hidden_decoys > 0 && fewest < needed {
+        return Err(SettingError::out_of_range(
+            "hidden_decoys",
+            format!(
+                "at most {} for jar_count {:?}: the target and each hidden decoy need an \
+                 occluder in front of them, so jar_count's low end must be at least \
+                 2 + 2 * hidden_decoys ({needed})",
+                fewest.saturating_sub(2) / 2,
+                c.jar_count,
+            ),
+            c.hidden_decoys,
+        ));
+    }
+    Ok(())
 }
 
 settings! {

@@ -25,9 +25,10 @@ pub enum SceneError {
     },
     /// The layout generator found no layout satisfying every constraint.
     #[error(
-        "no layout with {jars} jar(s) hiding the target (visible fraction <= {max_visible_fraction}) \
-         and keeping a clear corridor was found in {attempts} attempts with seed {seed}; relax \
-         the layout config (fewer jars, larger max_visible_fraction, narrower corridor)"
+        "no layout with {jars} jar(s) hiding the target and {hidden_decoys} decoy(s) (visible \
+         fraction <= {max_visible_fraction}) and keeping a clear corridor to each was found in \
+         {attempts} attempts with seed {seed}; relax the layout config (fewer jars or hidden \
+         decoys, larger max_visible_fraction, narrower corridor, larger cupboard)"
     )]
     LayoutNotFound {
         /// Seed given.
@@ -36,6 +37,8 @@ pub enum SceneError {
         attempts: usize,
         /// Jar count of the last attempt.
         jars: usize,
+        /// Hidden decoys asked for.
+        hidden_decoys: usize,
         /// The visibility bound.
         max_visible_fraction: f64,
     },

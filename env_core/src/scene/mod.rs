@@ -1,6 +1,7 @@
 //! The cupboard scene in rapier3d (`docs/DESIGN.md` §2; paper §IV.A): one shelf compartment,
-//! 3–7 dynamic spice jars with a hidden target, a pinhole depth camera for the first look, and
-//! the Exploratory Hand whose compliant finger senses contacts.
+//! 3–7 (up to 16) dynamic spice jars with a hidden target (and optionally hidden decoys), a
+//! pinhole depth camera for the first look, and the Exploratory Hand whose compliant finger
+//! senses contacts.
 //!
 //! SI units, z up; the interior is `x ∈ [−W/2, W/2]`, `y ∈ [0, D]` (open front at y = 0, the
 //! robot at y < 0), `z ∈ [0, H]`. The map plane is the horizontal slice at
@@ -10,7 +11,8 @@
 //! - [`camera_intrinsics`]: the pinhole intrinsics derived from the camera settings.
 //! - [`cupboard`], [`jar`]: the fixed walls and the dynamic jars; [`footprint`]: a jar's
 //!   cross-section at a pose (signed distance, outline, support).
-//! - [`layout`]: the seeded generator hiding the target and keeping a corridor to it.
+//! - [`layout`]: the seeded generator hiding the target (and any decoys) and keeping a
+//!   corridor to each.
 //! - [`visibility`]: the target's visible fraction, by ray casting.
 //! - [`ray_cast`]: exact ray casts against the walls and jars the camera sees.
 //! - [`depth_camera`], [`point_cloud`]: depth image, 3D cloud, 2D slice, noise, thinning.
