@@ -81,8 +81,9 @@ fuzz: build-dev ## the long fuzz run: the Rust and Python property tests with ma
 	PROPTEST_CASES=25000 cargo test --release -p env_core --test fuzz_gpis --test fuzz_settings_and_actions
 	HYPOTHESIS_PROFILE=long $(PY) -m pytest -q tests/test_fuzz_*.py --hypothesis-show-statistics
 
-stubs: $(VENV)/.extra-dev build ## regenerate the settings part of python/tactile_search/_core.pyi from the core
+stubs: $(VENV)/.extra-dev build ## regenerate the stub's settings part and docs/ENVIRONMENTS.md from the core
 	$(PY) scripts/generate_stub.py
+	$(PY) scripts/environments_page.py
 
 lint: rust-lint python-lint ## cargo fmt --check, clippy -D warnings, ruff check and format --check, stub up to date
 

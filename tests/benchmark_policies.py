@@ -37,3 +37,18 @@ class RandomProbes:
 
     def __call__(self, observation: dict) -> np.ndarray:
         return self.rng.integers(0, [29, 10, 9])
+
+
+class ProbeThenClaim:
+    """Identify: one probe straight in along the middle lane, then a claim of whatever the
+    finger touches (a probe-mode action with its claim entry)."""
+
+    name = "probe_then_claim"
+
+    def reset(self, observation: dict, info: dict) -> None:
+        self.probed = False
+
+    def __call__(self, observation: dict) -> np.ndarray:
+        claim = int(self.probed)
+        self.probed = True
+        return np.array([14, 9, 4, claim])

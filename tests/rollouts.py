@@ -1,6 +1,8 @@
 """Short seeded rollouts of every env face, reduced to arrays, for the pinned-rollout test.
 
-``python tests/rollouts.py --out tests/data/rollouts.npz`` records them.
+``python tests/rollouts.py --out tests/data/rollouts.npz`` records them (and, with
+``--registered-out tests/data/rollouts_registered.npz``, those of every other registered
+id: each task and tier, through ``gymnasium.make``, in both action modes).
 ``tests/test_rollouts_pinned.py`` checks that the step path keeps giving the same
 observations, rewards and infos bit for bit, so a change meant to keep what a seed gives
 (a faster path, a refactor) is checked against the file. Re-record it only for a change
@@ -160,6 +162,60 @@ def sb3(mode: str) -> dict[str, np.ndarray]:
     }
 
 
+def registered(env_id: str, action_mode: str) -> dict[str, np.ndarray]:
+    """One env of a registered id other than v0 (a task or tier), through ``gymnasium.make``:
+    random actions of its action space (claims included), reset when an episode ends. Every
+    info key of today is recorded (these ids are newer than ``INFO_KEYS``)."""
+    import gymnasium as gym
+
+    import tactile_search  # noqa: F401  (registers the ids)
+
+    env = gym.make(env_id, action_mode=action_mode, max_steps=MAX_STEPS)
+    env.action_space.seed(3)
+    seed = 21
+    obs, info = env.reset(seed=seed)
+    keys = sorted(info)
+    maps, proprio, rewards, flags, infos = [], [], [], [], []
+
+    def record(obs: dict, info: dict) -> None:
+        maps.append(digest(obs["map"]))
+        proprio.append(np.asarray(obs["proprio"]))
+        infos.append([float(info[k]) for k in keys])
+
+    record(obs, info)
+    for _ in range(STEPS // 2):
+        obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+        record(obs, info)
+        rewards.append(reward)
+        flags.append((terminated, truncated))
+        if terminated or truncated:
+            seed += 1
+            obs, info = env.reset(seed=seed)
+            record(obs, info)
+    return {
+        "maps": np.array(maps),
+        "proprio": np.array(proprio),
+        "rewards": np.array(rewards),
+        "flags": np.array(flags),
+        "infos": np.array(infos),
+        "info_keys": np.array(keys),
+    }
+
+
+def record_registered() -> dict[str, np.ndarray]:
+    """Every registered id but v0, in both action modes, keyed ``id/action_mode/field``."""
+    import tactile_search
+
+    out: dict[str, np.ndarray] = {}
+    for env_id in tactile_search.ENV_IDS:
+        if env_id == tactile_search.ENV_ID:
+            continue
+        for action_mode in ("wrist", "probe"):
+            for field, value in registered(env_id, action_mode).items():
+                out[f"{env_id}/{action_mode}/{field}"] = value
+    return out
+
+
 def record_all() -> dict[str, np.ndarray]:
     """Every rollout, keyed ``face/mode/field``."""
     out: dict[str, np.ndarray] = {}
@@ -172,8 +228,15 @@ def record_all() -> dict[str, np.ndarray]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", required=True)
-    np.savez_compressed(parser.parse_args().out, **record_all())
+    parser.add_argument("--out", required=True, help="v0's faces (tests/data/rollouts.npz)")
+    parser.add_argument(
+        "--registered-out", default=None,
+        help="the other registered ids (tests/data/rollouts_registered.npz)",
+    )  # fmt: skip
+    args = parser.parse_args()
+    np.savez_compressed(args.out, **record_all())
+    if args.registered_out:
+        np.savez_compressed(args.registered_out, **record_registered())
 
 
 if __name__ == "__main__":

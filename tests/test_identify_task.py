@@ -138,3 +138,48 @@ def test_the_sb3_vec_env_steps_claims_and_pickles() -> None:
     ours, theirs = copy.step(action), env.step(action)
     np.testing.assert_array_equal(ours[1], theirs[1])
     np.testing.assert_array_equal(ours[2], theirs[2])
+
+
+def test_the_benchmark_scores_wrong_claims_on_the_identify_id() -> None:
+    from tactile_search.benchmark import evaluate
+    from tests.benchmark_policies import ProbeThenClaim
+
+    result = evaluate(
+        ProbeThenClaim(), episodes=6, num_envs=2, progress=False, env_id=IDENTIFY,
+        action_mode="probe",
+    )  # fmt: skip
+    assert result.task == "identify" and result.env_id == IDENTIFY
+    assert result.env_kwargs["hidden_decoys"] == 1
+    for row in result.rows:
+        # Every episode ends with the claim (or a tip): never both outcomes, never neither.
+        assert row["success"] != row["wrong_claim"] or row["tips"] > 0, row
+    wrong = sum(row["wrong_claim"] for row in result.rows)
+    assert result.summary.wrong_claim_rate == wrong / 6
+
+
+def test_the_benchmark_cli_runs_an_identify_id_and_reports_its_wrong_claims(capsys) -> None:
+    from tactile_search.benchmark.__main__ import main
+
+    main(["--policy", "tests.benchmark_policies:ProbeThenClaim", "--env-id", IDENTIFY,
+          "--env", "action_mode=probe", "--episodes", "2", "--no-progress"])  # fmt: skip
+    described, summary = capsys.readouterr().out.splitlines()[:2]
+    assert described.startswith(f"{IDENTIFY}, map gpis, action_mode probe")
+    assert "wrong claims" in summary
+
+
+def test_render_shows_the_claim_around_the_claimed_jar() -> None:
+    from tactile_search import render
+
+    env = gym.make(IDENTIFY, render_mode="rgb_array")
+    env.reset(seed=3)
+    for _ in range(env.unwrapped.config.max_steps):
+        action = env.unwrapped.oracle_action()
+        if action[3] > 0:
+            break
+        env.step(action)
+    before = env.render()
+    _, _, terminated, _, info = env.step(action)
+    after = env.render()
+    assert terminated and info["success"]
+    ring = np.all(after == render.CLAIM_RIGHT, axis=-1)
+    assert ring.sum() > 20 and not np.all(before == render.CLAIM_RIGHT, axis=-1).any()

@@ -131,7 +131,7 @@ def test_config_from_dict_and_keywords() -> None:
     ("kwargs", "error", "needle"),
     [
         ({"jar_count": (5, 3)}, ValueError, "jar_count"),
-        ({"jar_count": 9}, ValueError, "jar_count"),
+        ({"jar_count": 17}, ValueError, "jar_count"),
         ({"depth_noise_std": -0.1}, ValueError, "noise_std"),
         ({"depth_noise_std": "big"}, TypeError, "float"),
         ({"finger_stiffness": float("nan")}, ValueError, "finger_stiffness must be finite"),

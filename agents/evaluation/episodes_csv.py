@@ -15,6 +15,7 @@ EPISODE_COLUMNS: dict[str, type] = {
     "map": str,
     "seed": int,
     "success": bool,
+    "wrong_claim": bool,
     "steps": int,
     "actions": int,
     "tips": int,
@@ -24,6 +25,11 @@ EPISODE_COLUMNS: dict[str, type] = {
     "reward": float,
     "fingerprint": str,
 }
+
+
+#: Columns added since the first layout, with the value a row of an older file has: a file
+#: written before the identify task has no ``wrong_claim`` (no search episode has one).
+ADDED_COLUMNS: dict[str, Any] = {"wrong_claim": False}
 
 
 def _parse(kind: type, text: str) -> Any:
@@ -46,28 +52,33 @@ def episode_row(agent: str, map_mode: str, result: dict[str, Any], fingerprint: 
 
 def read_episodes_csv(path: Path) -> tuple[list[dict[str, Any]], int]:
     """The complete, well-formed rows of an episodes.csv, typed as ``run_episodes`` returns
-    them, and how many lines were not (a line cut short by a kill, a file of another layout)."""
+    them, and how many lines were not (a line cut short by a kill, a file of another layout).
+    A file of the layout before a column was added (``ADDED_COLUMNS``) is read with that
+    column's value for every row."""
     if not path.is_file():
         return [], 0
     with path.open(newline="") as f:
         lines = f.read().splitlines(keepends=True)
-    if not lines or next(csv.reader([lines[0]]), []) != list(EPISODE_COLUMNS):
+    header = next(csv.reader(lines[:1]), [])
+    older = [key for key in EPISODE_COLUMNS if key not in ADDED_COLUMNS]
+    if header not in (list(EPISODE_COLUMNS), older):
         return [], max(0, len(lines) - 1)
+    columns = {key: EPISODE_COLUMNS[key] for key in header}
     rows, bad = [], 0
     for line in lines[1:]:
         values = next(csv.reader([line]), [])
-        if not line.endswith("\n") or len(values) != len(EPISODE_COLUMNS):
+        if not line.endswith("\n") or len(values) != len(columns):
             bad += 1
             continue
         try:
-            rows.append(
-                {
-                    key: _parse(kind, text)
-                    for (key, kind), text in zip(EPISODE_COLUMNS.items(), values, strict=True)
-                }
-            )
+            parsed = {
+                key: _parse(kind, text)
+                for (key, kind), text in zip(columns.items(), values, strict=True)
+            }
         except (ValueError, KeyError):
             bad += 1
+            continue
+        rows.append({key: parsed.get(key, ADDED_COLUMNS.get(key)) for key in EPISODE_COLUMNS})
     return rows, bad
 
 

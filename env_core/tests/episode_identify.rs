@@ -1,8 +1,8 @@
 //! The identify task: a touch of the target ends nothing and pays nothing; a claim names the
 //! jar the finger touches and ends the episode, a success if it is the target and a failure
 //! otherwise (another jar, or none), in both action modes; the info keeps the target secret
-//! until the claim; settings that cannot tell the target apart are refused; and a claim is
-//! refused in the search task.
+//! until the claim; settings that cannot tell the target apart (a shape shared, no hidden
+//! decoy) are refused; and a claim is refused in the search task.
 
 use env_core::episode::{
     oracle_motion, Action, ActionMode, Episode, EpisodeConfig, EpisodeError, StepInfo, Task,
@@ -16,8 +16,11 @@ fn identify(action_mode: ActionMode) -> EpisodeConfig {
         action_mode,
         ..EpisodeConfig::default()
     };
-    config.scene.layout.target_shape = TargetShape::Square;
-    config.scene.layout.round_fraction = 1.0;
+    let layout = &mut config.scene.layout;
+    layout.target_shape = TargetShape::Square;
+    layout.round_fraction = 1.0;
+    layout.hidden_decoys = 1;
+    layout.jar_count = [4, 7];
     config
 }
 
@@ -147,6 +150,17 @@ fn identify_settings_that_cannot_name_the_target_are_refused() {
         &error,
         SettingError::OutOfRange {
             key: "target_shape",
+            ..
+        }
+    ));
+
+    let mut no_decoy = identify(ActionMode::Wrist);
+    no_decoy.scene.layout.hidden_decoys = 0;
+    let error = Checked::new(no_decoy).unwrap_err();
+    assert!(matches!(
+        &error,
+        SettingError::OutOfRange {
+            key: "hidden_decoys",
             ..
         }
     ));

@@ -10,11 +10,16 @@
 //! - In the `probe` action mode, any sequence of indices (valid, fractional, negative, too
 //!   large, NaN) steps by at least one motion or is refused with `ProbeIndex` or
 //!   `NonFiniteAction`, leaving the episode as it was.
+//! - In every registered env (search, identify, their dense tiers) and either action mode,
+//!   any action row with its claim entry (valid, NaN, out of range) steps, claims or is
+//!   refused, leaving the episode as it was; a claim ends the episode, a success exactly
+//!   when it names the target.
 //!
 //! `PROPTEST_CASES` sets the number of cases (the long run).
 
+use env_core::episode::registry::REGISTERED_ENVS;
 use env_core::episode::step_info::InfoValue;
-use env_core::episode::ActionMode;
+use env_core::episode::{Action, ActionMode};
 use env_core::episode::{
     Episode, EpisodeConfig, EpisodeError, MapMode, PROPRIO_LEN, STEP_INFO_FIELDS,
 };
@@ -48,8 +53,17 @@ fn setting_value() -> impl Strategy<Value = SettingValue> {
         number().prop_map(SettingValue::Float),
         prop::collection::vec(any::<char>(), 0..8)
             .prop_map(|c| SettingValue::Text(c.into_iter().collect())),
-        prop::sample::select(vec!["gpis", "occupancy", "none", "round", "any"])
-            .prop_map(|s| SettingValue::Text(s.to_owned())),
+        prop::sample::select(vec![
+            "gpis",
+            "occupancy",
+            "none",
+            "round",
+            "square",
+            "any",
+            "identify",
+            "search",
+        ])
+        .prop_map(|s| SettingValue::Text(s.to_owned())),
         Just(SettingValue::Null),
     ];
     leaf.prop_recursive(2, 8, 5, |inner| {
@@ -285,6 +299,69 @@ proptest! {
                 }
                 Err(EpisodeError::ProbeIndex { .. }) => {
                     prop_assert!(!valid, "{action:?} was refused");
+                    prop_assert_eq!(*episode.last_info(), before);
+                }
+                Err(other) => {
+                    prop_assert!(before.terminated, "{other}");
+                    break;
+                }
+            }
+        }
+    }
+}
+
+/// An action row of `mode` as the env's action space holds it, with a claim entry: a wrist
+/// row's numbers or a probe row's indices (as f64: `claim_row` casts them), each valid or
+/// not.
+fn claim_row() -> impl Strategy<Value = (Vec<f64>, Vec<i64>)> {
+    let claim = prop_oneof![3 => -1.0..1.0f64, 1 => Just(f64::NAN), 1 => Just(f64::INFINITY)];
+    let index = prop_oneof![8 => 0i64..2, 1 => -2i64..4];
+    (
+        (action(), claim).prop_map(|(m, c)| vec![m[0], m[1], m[2], c]),
+        (probe_action(), index).prop_map(|(p, c)| vec![p[0], p[1], p[2], c]),
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(cases(24)))]
+
+    #[test]
+    fn any_row_of_any_registered_env_steps_claims_or_is_refused(
+        env in prop::sample::select(REGISTERED_ENVS.to_vec()),
+        probe in any::<bool>(),
+        seed in 0u64..100_000,
+        rows in prop::collection::vec(claim_row(), 1..8),
+    ) {
+        let pairs = env.settings.iter().map(|(key, preset)| (*key, preset.value()));
+        let mut config = (*EpisodeConfig::from_pairs(pairs).expect("a registered env")).clone();
+        config.action_mode = if probe { ActionMode::Probe } else { ActionMode::Wrist };
+        let claims = config.task.claims();
+        let mut episode = Episode::started(Checked::new(config).unwrap(), seed)
+            .expect("a registered env's layouts are found");
+        for (wrist, indices) in rows {
+            let parsed = if probe {
+                Action::from_probe_row(&indices[..if claims { 4 } else { 3 }], claims)
+            } else {
+                Action::from_wrist_row(&wrist[..if claims { 4 } else { 3 }], claims)
+            };
+            let Ok(action) = parsed else {
+                prop_assert!(claims, "a row without a claim entry parses");
+                continue;
+            };
+            let before = *episode.last_info();
+            match episode.step(action) {
+                Ok(info) => {
+                    assert_outputs_finite(&episode)?;
+                    if action == Action::Claim {
+                        prop_assert!(info.terminated);
+                        let target = episode.scene().target();
+                        prop_assert_eq!(info.success, info.claimed_jar == Some(target));
+                        prop_assert_eq!(info.wrong_claim, !info.success);
+                    } else {
+                        prop_assert!(!info.success || !claims, "a touch succeeded in identify");
+                    }
+                }
+                Err(EpisodeError::NonFiniteAction { .. } | EpisodeError::ProbeIndex { .. }) => {
                     prop_assert_eq!(*episode.last_info(), before);
                 }
                 Err(other) => {

@@ -31,7 +31,7 @@ class SceneSettings(TypedDict, total=False):
     """Friction coefficient of the walls. Default 0.5. Range [0, inf)."""
     jar_count: int | tuple[int, int]
     """Range of the number of jars, target included (an int n means exactly n). Default (3, 7).
-    Range [1, 7].
+    Range [1, 16].
     """
     round_fraction: float
     """Probability that a non-target jar is round (else square). Default 0.5. Range [0, 1]."""
@@ -48,12 +48,21 @@ class SceneSettings(TypedDict, total=False):
     jar_friction: float
     """Friction coefficient of the jars. Default 0.5. Range [0, inf)."""
     max_visible_fraction: float
-    """Upper bound on the target's visible fraction: visible silhouette pixels over silhouette
-    pixels, both by ray casting through the depth camera's pixel grid. Default 0.1. Range [0,
-    1].
+    """Upper bound on the visible fraction of the target (and of each hidden decoy): visible
+    silhouette pixels over silhouette pixels, both by ray casting through the depth camera's
+    pixel grid. Default 0.1. Range [0, 1].
     """
     target_min_depth: float
-    """The target's centre is at least this deep (y), m. Default 0.17. Range [0, 100]."""
+    """The centre of the target (and of each hidden decoy) is at least this deep (y), m. Default
+    0.17. Range [0, 100].
+    """
+    hidden_decoys: int
+    """Non-target jars hidden like the target: each at least target_min_depth deep, behind its
+    own occluder, at most max_visible_fraction visible and with its own corridor, so that
+    neither the camera nor reachability tells the target from them. Each needs two jars
+    (itself and its occluder): jar_count's low end must be at least 2 + 2 * hidden_decoys.
+    Default 0. Range [0, 3].
+    """
     min_gap: float
     """Minimum gap between the bounding circles of two jars, m. Default 0.008. Range [0, 100]."""
     wall_gap: float
@@ -61,11 +70,11 @@ class SceneSettings(TypedDict, total=False):
     Range [0, 100].
     """
     corridor_width: float
-    """Width of the jar-free corridor from the opening to the target's side, m. Default 0.07.
-    Range (0, 100].
+    """Width of the jar-free corridor from the opening to the side of the target (and of each
+    hidden decoy), m. Default 0.07. Range (0, 100].
     """
     corridor_clearance: float
-    """Gap between the target's side and the corridor's inner edge, m. Default 0.005. Range [0,
+    """Gap between a hidden jar's side and its corridor's inner edge, m. Default 0.005. Range [0,
     100].
     """
     max_attempts: int

@@ -31,6 +31,11 @@ HAND = np.array([105, 105, 105], dtype=np.uint8)
 FINGER = np.array([30, 30, 30], dtype=np.uint8)
 CONTACT = np.array([255, 200, 0], dtype=np.uint8)
 OUTLINE = np.array([255, 0, 255], dtype=np.uint8)
+DECOY = np.array([123, 104, 238], dtype=np.uint8)
+CLAIM_RIGHT = np.array([0, 170, 0], dtype=np.uint8)
+CLAIM_WRONG = np.array([255, 140, 0], dtype=np.uint8)
+#: Width of the ring drawn around a claimed jar, m.
+CLAIM_RING = 0.006
 # Anchors of the colour ramps: blue-white-red for the mean (red inside, f < 0) and a
 # viridis-like ramp for the standard deviation and the occupancy.
 DIVERGING = np.array([[178, 24, 43], [247, 247, 247], [33, 102, 172]], dtype=float)
@@ -89,7 +94,9 @@ def _edges(mask: np.ndarray) -> np.ndarray:
 
 
 def _scene_panel(state: dict[str, Any]) -> np.ndarray:
-    """The cupboard from above: walls, jars (the target red), the hand, the readings."""
+    """The cupboard from above: walls, jars (the target red, hidden decoys purple), the
+    hand, the readings, and a claim's ring around the jar it named (green on the target,
+    orange on another jar; around the fingertip when it named none)."""
     (x0, x1), (y0, y1) = state["bounds"]
     panel = _Panel(((x0, x1), (y0 - SCENE_MARGIN, y1)))
     wall = 3 / PIXELS_PER_METRE
@@ -101,6 +108,8 @@ def _scene_panel(state: dict[str, Any]) -> np.ndarray:
     for index, jar in enumerate(state["jars"]):
         if jar["is_target"]:
             panel.image[jar_pixels == index] = TARGET
+        elif jar.get("is_decoy"):
+            panel.image[jar_pixels == index] = DECOY
     x, y, yaw = state["hand"]
     h = state["wrist_half_extent"]
     c, s = np.cos(yaw), np.sin(yaw)
@@ -114,6 +123,14 @@ def _scene_panel(state: dict[str, Any]) -> np.ndarray:
     panel.image[panel.segment(np.array([fx, fy]), tip, 2 / PIXELS_PER_METRE)] = FINGER
     for px, py, *_ in state["contacts"]:
         panel.image[np.hypot(panel.x - px, panel.y - py) <= 4 / PIXELS_PER_METRE] = CONTACT
+    claim = state.get("claim")
+    if claim is not None:
+        centre = tip if claim["jar"] is None else state["jars"][claim["jar"]]
+        cx, cy = (centre[0], centre[1]) if claim["jar"] is None else (centre["x"], centre["y"])
+        radius = 0.0 if claim["jar"] is None else 1.5 * centre["half_width"]
+        distance = np.hypot(panel.x - cx, panel.y - cy)
+        ring = (distance >= radius + CLAIM_RING / 2) & (distance <= radius + CLAIM_RING * 1.5)
+        panel.image[ring] = CLAIM_RIGHT if claim["correct"] else CLAIM_WRONG
     return panel.image
 
 

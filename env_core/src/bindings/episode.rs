@@ -437,7 +437,8 @@ impl PyEpisodeBatch {
     }
 
     /// Ground truth and map of episode `index` for rendering: jars (shape name, centre,
-    /// yaw, half width, tilt, whether the target), hand, finger, contacts, the hand's
+    /// yaw, half width, tilt, whether the target, whether a hidden decoy), the last step's
+    /// `claim` (`{"jar", "correct"}`, None without one), hand, finger, contacts, the hand's
     /// sizes, the map's bounds, its grids by name under `map` (`mean` and `std` for gpis,
     /// `occupancy`; none in the `none` mode, in the order of the mode's channels), and,
     /// given `pixels_per_metre`, `jar_pixels`: which jar covers each pixel (its index, -1
@@ -479,9 +480,21 @@ impl PyEpisodeBatch {
             j.set_item("half_width", jar.spec.shape.half_width())?;
             j.set_item("tilt", jar.disturbance.tilt)?;
             j.set_item("is_target", i == scene.target())?;
+            j.set_item("is_decoy", scene.layout().decoys.contains(&i))?;
             jars.append(j)?;
         }
         d.set_item("jars", jars)?;
+        // The last step's claim: the jar it named (None with none touched) and whether it was
+        // the target; None when the last step made no claim.
+        let info = episode.last_info();
+        if self.config.task.claims() && (info.success || info.wrong_claim) {
+            let claim = PyDict::new(py);
+            claim.set_item("jar", info.claimed_jar)?;
+            claim.set_item("correct", info.success)?;
+            d.set_item("claim", claim)?;
+        } else {
+            d.set_item("claim", py.None())?;
+        }
         let hand = scene.hand_pose();
         d.set_item("hand", (hand.x, hand.y, hand.yaw))?;
         let finger = scene.finger_pose();
@@ -679,7 +692,7 @@ fn jar_labels(grid: &GridSpec, jars: &[JarState]) -> Vec<i8> {
     let mut mask = Vec::new();
     for (index, jar) in jars.iter().enumerate() {
         footprints_mask(grid, [footprint_of(jar)], 0.0, &mut mask);
-        let label = i8::try_from(index).expect("a layout holds at most 7 jars");
+        let label = i8::try_from(index).expect("a layout holds at most MAX_JARS (16) jars");
         for (cell, &covered) in labels.iter_mut().zip(&mask) {
             if covered {
                 *cell = label;

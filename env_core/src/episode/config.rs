@@ -81,12 +81,21 @@ fn check_across(c: &EpisodeConfig) -> Result<(), SettingError> {
 }
 
 /// In the identify task the target is known by its shape alone: it must be the only jar of
-/// its shape, so target_shape names one and round_fraction gives every other jar the other.
+/// its shape, so target_shape names one and round_fraction gives every other jar the other;
+/// and a decoy must be hidden as well as it, or looking would tell which hidden jar it is.
 fn check_task(c: &EpisodeConfig) -> Result<(), SettingError> {
     if c.task != Task::Identify {
         return Ok(());
     }
     let layout = &c.scene.layout;
+    if layout.hidden_decoys == 0 {
+        return Err(SettingError::out_of_range(
+            "hidden_decoys",
+            "at least 1 in the identify task (a decoy hidden as well as the target, so that \
+             only touch tells them apart)",
+            0,
+        ));
+    }
     let others_round = match layout.target_shape {
         TargetShape::Square => 1.0,
         TargetShape::Round => 0.0,

@@ -15,6 +15,8 @@ pub enum Preset {
     Float(f64),
     /// A whole number.
     Int(i64),
+    /// A pair of whole numbers (a range such as `jar_count`).
+    IntPair([i64; 2]),
 }
 
 impl Preset {
@@ -24,6 +26,7 @@ impl Preset {
             Self::Text(text) => SettingValue::Text(text.to_owned()),
             Self::Float(value) => SettingValue::Float(value),
             Self::Int(value) => SettingValue::Int(value),
+            Self::IntPair(pair) => SettingValue::List(pair.map(SettingValue::Int).to_vec()),
         }
     }
 }
@@ -43,6 +46,19 @@ pub struct RegisteredEnv {
     pub history: &'static str,
 }
 
+/// The identify task's rule over the defaults: the target the only square jar among round
+/// ones, and one decoy hidden as well as it (a decoy and its occluder need two more jars).
+const IDENTIFY: [(&str, Preset); 4] = [
+    ("task", Preset::Text("identify")),
+    ("target_shape", Preset::Text("square")),
+    ("round_fraction", Preset::Float(1.0)),
+    ("hidden_decoys", Preset::Int(1)),
+];
+
+/// Dense shelves: 8 to 14 jars in the default cupboard (every seed of 0..2000 gets a layout
+/// in a few attempts, with and without a decoy: `examples/layout_rates.rs`).
+const DENSE: (&str, Preset) = ("jar_count", Preset::IntPair([8, 14]));
+
 /// Every registered id. `CupboardSearch-v0` is the defaults, unchanged since v0.
 pub const REGISTERED_ENVS: &[RegisteredEnv] = &[
     RegisteredEnv {
@@ -58,11 +74,28 @@ pub const REGISTERED_ENVS: &[RegisteredEnv] = &[
         summary: "the target is the only square jar among round ones, hidden like a decoy: \
                   touch to tell them apart and claim it",
         settings: &[
-            ("task", Preset::Text("identify")),
-            ("target_shape", Preset::Text("square")),
-            ("round_fraction", Preset::Float(1.0)),
+            IDENTIFY[0],
+            IDENTIFY[1],
+            IDENTIFY[2],
+            IDENTIFY[3],
+            ("jar_count", Preset::IntPair([4, 7])),
         ],
-        history: "v0: the identify task; one hidden decoy.",
+        history: "v0: the identify task, 4 to 7 jars, one hidden decoy.",
+    },
+    RegisteredEnv {
+        id: "tactile_search/CupboardSearchDense-v0",
+        task: Task::Search,
+        summary: "search on dense shelves: 8 to 14 jars",
+        settings: &[DENSE],
+        history: "v0: the search task with 8 to 14 jars.",
+    },
+    RegisteredEnv {
+        id: "tactile_search/IdentifyByTouchDense-v0",
+        task: Task::Identify,
+        summary: "identify on dense shelves: 8 to 14 jars, the target among round jars and a \
+                  hidden decoy",
+        settings: &[IDENTIFY[0], IDENTIFY[1], IDENTIFY[2], IDENTIFY[3], DENSE],
+        history: "v0: the identify task with 8 to 14 jars, one hidden decoy.",
     },
 ];
 

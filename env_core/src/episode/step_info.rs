@@ -159,11 +159,11 @@ macro_rules! info_fields {
 }
 
 info_fields! {
-    reward_success: Float, "reward_success when the finger touched the target this step, else 0";
+    reward_success: Float, "reward_success when the episode succeeded this step (the finger touched the target; identify: a claim named it), else 0";
     reward_step: Float, "-reward_step_cost per wrist motion";
     reward_displacement: Float, "-reward_displacement times the jar displacement added this step";
     reward_tip: Float, "-reward_tip when a jar tipped over this step, else 0";
-    reward_approach: Float, "reward_approach times the shrink of target_distance this step";
+    reward_approach: Float, "reward_approach times the shrink of the fingertip's path distance to the target this step";
     reward_wrong_claim: Float, "-reward_wrong_claim when a claim named a jar other than the target, or none";
     target_distance: Float, "the fingertip's path distance to the target, m (0 in the identify task, which keeps the target secret)";
     success: Flag, "the episode succeeded: the finger touched the target (search), a claim named it (identify)";

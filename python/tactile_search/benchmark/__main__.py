@@ -18,7 +18,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from tactile_search import ENV_ID
+from tactile_search import ENV_ID, ENV_IDS
 from tactile_search.benchmark.policies import SB3_ALGORITHMS, Sb3Policy, load_policy
 from tactile_search.benchmark.runner import ROW_KEYS, BenchmarkResult, evaluate
 from tactile_search.envs.config import SETTINGS
@@ -44,7 +44,7 @@ def run_description(result: BenchmarkResult, actions: str, overridden: dict[str,
     settings the command line overrode."""
     settings = result.env_kwargs
     text = (
-        f"{ENV_ID}, map {settings.get('map', DEFAULTS['map'])}, action_mode "
+        f"{result.env_id}, map {settings.get('map', DEFAULTS['map'])}, action_mode "
         f"{settings.get('action_mode', DEFAULTS['action_mode'])}, actions: {actions}"
     )
     if overridden:
@@ -65,6 +65,7 @@ def summary_line(result: BenchmarkResult) -> str:
         f"{100 * s.success_rate:.1f} % [{100 * s.success_low:.1f}, {100 * s.success_high:.1f}], "
         f"steps to success median (Q1, Q3) {steps}, tip rate {100 * s.tip_rate:.1f} %, "
         f"displacement in successes {s.success_displacement_mm:.1f} mm, final IoU {s.iou:.3f}"
+        + (f", wrong claims {100 * s.wrong_claim_rate:.1f} %" if result.task == "identify" else "")
     )
 
 
@@ -77,6 +78,11 @@ def main(argv: list[str] | None = None) -> BenchmarkResult:
         choices=sorted(SB3_ALGORITHMS),
         help="a model.zip's algorithm (default: its run's config.yml, else ppo)",
     )
+    parser.add_argument(
+        "--env-id", default=None, choices=ENV_IDS,
+        help="the registered task and tier (default: a model's run config's, else "
+        f"{ENV_ID})",
+    )  # fmt: skip
     parser.add_argument("--split", default="validation", choices=sorted(SPLITS))
     parser.add_argument("--episodes", type=int, default=200)
     parser.add_argument("--final", action="store_true", help="the final evaluation (test split)")
@@ -101,7 +107,8 @@ def main(argv: list[str] | None = None) -> BenchmarkResult:
         # A model.zip runs in its run's settings, each --env overriding one (evaluate).
         result = evaluate(
             policy, args.split, args.episodes, final=args.final, name=args.name,
-            num_envs=args.num_envs, progress=not args.no_progress, **overridden,
+            num_envs=args.num_envs, progress=not args.no_progress, env_id=args.env_id,
+            **overridden,
         )  # fmt: skip
     except Exception as error:  # one line, never a traceback: the user's input is at fault
         message = " ".join(str(error).split()) or type(error).__name__

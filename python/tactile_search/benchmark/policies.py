@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from tactile_search import ENV_ID
+from tactile_search import ENV_ID, ENV_IDS
 from tactile_search.benchmark.checks import action_mode
 from tactile_search.envs.config import REWARD_KEYS
 
@@ -206,10 +206,10 @@ class Sb3Policy(Sb3ModelPolicy):
             raise ValueError(f"{path} is not a file")
         self.run = RunConfig.beside(path)
         if self.run is not None:
-            if self.run.env_id != ENV_ID:
+            if self.run.env_id not in ENV_IDS:
                 raise ValueError(
                     f"{path} was trained on {self.run.env_id!r} (its {RUN_CONFIG_FILE}); "
-                    f"this benchmark evaluates {ENV_ID!r}"
+                    f"this benchmark evaluates the registered ids {list(ENV_IDS)}"
                 )
             if algo is not None and algo != self.run.algo:
                 raise ValueError(
@@ -259,6 +259,11 @@ class Sb3Policy(Sb3ModelPolicy):
             return load_objects(self.run.recipe)
         except ValueError as error:
             raise ValueError(f"{path.parent / RUN_CONFIG_FILE}: {error}") from None
+
+    @property
+    def env_id(self) -> str:
+        """The registered id the model was trained on (its run config's, else ``ENV_ID``)."""
+        return ENV_ID if self.run is None else self.run.env_id
 
     @property
     def env_settings(self) -> dict[str, Any]:

@@ -17,8 +17,10 @@ import sys
 from collections.abc import Callable, Sequence
 from typing import Any
 
+import gymnasium
 import numpy as np
 
+from tactile_search import ENV_ID, ENV_IDS
 from tactile_search.benchmark.checks import ActionCheck, check_policy
 from tactile_search.benchmark.statistics import Summary, summarize
 from tactile_search.envs.config import config_for
@@ -26,9 +28,10 @@ from tactile_search.envs.sub_env import SubEnv
 from tactile_search.envs.vector import CupboardSearchVectorEnv
 from tactile_search.seed_ranges import TEST, held_out_seeds
 
-#: The per-episode row's keys, in order.
+#: The per-episode row's keys, in order (``wrong_claim``: the identify task's failure by a
+#: claim on another jar or none; always False in the search task).
 ROW_KEYS = (
-    "seed", "success", "steps", "actions", "tips", "jar_displacement",
+    "seed", "success", "wrong_claim", "steps", "actions", "tips", "jar_displacement",
     "max_jar_displacement", "iou", "reward",
 )  # fmt: skip
 
@@ -39,6 +42,7 @@ def episode_row(seed: int, info: dict[str, Any], actions: int, reward: float) ->
     return {
         "seed": seed,
         "success": bool(info["success"]),
+        "wrong_claim": bool(info["wrong_claim"]),
         "steps": int(info["steps"]),
         "actions": actions,
         "tips": int(info["tips"]),
@@ -53,13 +57,15 @@ def episode_row(seed: int, info: dict[str, Any], actions: int, reward: float) ->
 class BenchmarkResult:
     """An evaluation's rows (one dict per episode, in the split's seed order), their
     summary (success with its 95 % Wilson interval, steps to success, tips, displacement
-    within successful episodes, final IoU), and the env settings it ran in (the policy's
-    own, then those given)."""
+    within successful episodes, final IoU, wrong claims), the registered id and the env
+    settings it ran in (the id's, the policy's own, then those given), and its task."""
 
     rows: list[dict[str, Any]]
     summary: Summary
     split: str
     env_kwargs: dict[str, Any]
+    env_id: str = ENV_ID
+    task: str = "search"
 
 
 def evaluate(
@@ -71,6 +77,7 @@ def evaluate(
     name: str | None = None,
     num_envs: int | None = None,
     progress: bool = True,
+    env_id: str | None = None,
     **env_kwargs: Any,
 ) -> BenchmarkResult:
     """Runs ``policy`` on the first ``episodes`` layouts of ``split`` and summarises them.
@@ -92,6 +99,9 @@ def evaluate(
             its type's name).
         num_envs: episodes side by side (default: the cores, at most ``episodes``).
         progress: show a progress bar on stderr (tqdm's if installed).
+        env_id: the registered id whose task and tier to run (``tactile_search.ENV_IDS``;
+            default: the policy's ``env_id`` if it has one, else ``ENV_ID``), its settings
+            under the policy's and ``env_kwargs``.
         **env_kwargs: the env's settings (``map``, ``action_mode``, ...), as ``gym.make``
             takes them; the reward terms do not change the rows' success and metrics. A
             policy that knows the settings it was trained in (``env_settings``, a dict: a
@@ -106,7 +116,14 @@ def evaluate(
             "pass final=True only for that evaluation; make every choice on 'validation'"
         )
     check_policy(policy)
-    env_kwargs = {**dict(getattr(policy, "env_settings", None) or {}), **env_kwargs}
+    env_id = env_id or getattr(policy, "env_id", None) or ENV_ID
+    if env_id not in ENV_IDS:
+        raise ValueError(f"env_id must be one of {list(ENV_IDS)}, got {env_id!r}")
+    env_kwargs = {
+        **gymnasium.spec(env_id).kwargs,
+        **dict(getattr(policy, "env_settings", None) or {}),
+        **env_kwargs,
+    }
     check_fits = getattr(policy, "check_fits", None)
     if callable(check_fits):
         check_fits(env_kwargs)
@@ -120,12 +137,14 @@ def evaluate(
         name or getattr(policy, "name", None) or getattr(policy, "__name__", None)
         or type(policy).__name__
     )  # fmt: skip
-    map_mode = config_for("evaluate", env_kwargs).map
+    config = config_for("evaluate", env_kwargs)
     return BenchmarkResult(
         rows=rows,
-        summary=summarize(str(agent), map_mode, rows),
+        summary=summarize(str(agent), config.map, rows),
         split=split,
         env_kwargs=dict(env_kwargs),
+        env_id=env_id,
+        task=config.task,
     )
 
 

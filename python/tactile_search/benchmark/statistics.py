@@ -33,6 +33,8 @@ class Summary:
     max_displacement_mm: float
     tip_rate: float
     iou: float
+    # The share of episodes that ended with a wrong claim (the identify task; 0 elsewhere).
+    wrong_claim_rate: float = 0.0
 
     @property
     def success_rate(self) -> float:
@@ -81,4 +83,5 @@ def summarize(agent: str, map_mode: str, episodes: Sequence[dict[str, Any]]) -> 
         max_displacement_mm=1000 * statistics.fmean(e["max_jar_displacement"] for e in episodes),
         tip_rate=statistics.fmean(e["tips"] > 0 for e in episodes),
         iou=statistics.fmean(e["iou"] for e in episodes),
+        wrong_claim_rate=statistics.fmean(bool(e.get("wrong_claim", False)) for e in episodes),
     )
