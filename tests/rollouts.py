@@ -165,7 +165,8 @@ def sb3(mode: str) -> dict[str, np.ndarray]:
 def registered(env_id: str, action_mode: str) -> dict[str, np.ndarray]:
     """One env of a registered id other than v0 (a task or tier), through ``gymnasium.make``:
     random actions of its action space (claims included), reset when an episode ends. Every
-    info key of today is recorded (these ids are newer than ``INFO_KEYS``)."""
+    info key of today is recorded, each as its own array (``info/<key>``), so that an info
+    key added later leaves the pinned ones as they were."""
     import gymnasium as gym
 
     import tactile_search  # noqa: F401  (registers the ids)
@@ -175,12 +176,14 @@ def registered(env_id: str, action_mode: str) -> dict[str, np.ndarray]:
     seed = 21
     obs, info = env.reset(seed=seed)
     keys = sorted(info)
-    maps, proprio, rewards, flags, infos = [], [], [], [], []
+    maps, proprio, rewards, flags = [], [], [], []
+    infos: dict[str, list[float]] = {key: [] for key in keys}
 
     def record(obs: dict, info: dict) -> None:
         maps.append(digest(obs["map"]))
         proprio.append(np.asarray(obs["proprio"]))
-        infos.append([float(info[k]) for k in keys])
+        for key in keys:
+            infos[key].append(float(info[key]))
 
     record(obs, info)
     for _ in range(STEPS // 2):
@@ -197,8 +200,7 @@ def registered(env_id: str, action_mode: str) -> dict[str, np.ndarray]:
         "proprio": np.array(proprio),
         "rewards": np.array(rewards),
         "flags": np.array(flags),
-        "infos": np.array(infos),
-        "info_keys": np.array(keys),
+        **{f"info/{key}": np.array(values) for key, values in infos.items()},
     }
 
 

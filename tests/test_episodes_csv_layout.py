@@ -16,7 +16,8 @@ from agents.evaluation.episodes_csv import (
 ROW = {
     "agent": "oracle", "map": "gpis", "seed": 1_000_000, "success": True, "wrong_claim": False,
     "steps": 44, "actions": 3, "tips": 0, "jar_displacement": 0.001,
-    "max_jar_displacement": 0.0005, "iou": 0.3, "reward": 0.5, "fingerprint": "abc",
+    "max_jar_displacement": 0.0005, "iou": 0.3, "reward": 0.5, "map_score_mm": 0.0,
+    "map_score_iou": 0.0, "map_score_area": 0.0, "fingerprint": "abc",
 }  # fmt: skip
 
 

@@ -23,13 +23,22 @@ EPISODE_COLUMNS: dict[str, type] = {
     "max_jar_displacement": float,
     "iou": float,
     "reward": float,
+    "map_score_mm": float,
+    "map_score_iou": float,
+    "map_score_area": float,
     "fingerprint": str,
 }
 
 
 #: Columns added since the first layout, with the value a row of an older file has: a file
-#: written before the identify task has no ``wrong_claim`` (no search episode has one).
-ADDED_COLUMNS: dict[str, Any] = {"wrong_claim": False}
+#: written before the identify and map tasks has no ``wrong_claim`` (no search episode has
+#: one) and no map scores (0 outside the map task).
+ADDED_COLUMNS: dict[str, Any] = {
+    "wrong_claim": False,
+    "map_score_mm": 0.0,
+    "map_score_iou": 0.0,
+    "map_score_area": 0.0,
+}
 
 
 def _parse(kind: type, text: str) -> Any:

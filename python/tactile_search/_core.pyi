@@ -219,11 +219,12 @@ class SceneSettings(TypedDict, total=False):
 class EpisodeSettings(SceneSettings, total=False):
     """Every setting of ``EpisodeConfig`` by key (``EpisodeConfig.settings()``)."""
 
-    task: Literal["search", "identify"]
-    """What the episode asks: 'search' (v0: a touch of the hidden target succeeds) or 'identify'
+    task: Literal["search", "identify", "map"]
+    """What the episode asks: 'search' (v0: a touch of the hidden target succeeds), 'identify'
     (the target is the only jar of its shape, target_shape, among jars of the other; a touch
     of it pays nothing, and the episode ends with a claim, the action's 4th entry, naming the
-    jar the finger touches). Default 'search'.
+    jar the finger touches) or 'map' (no target: touch so that the evidence reconstructs the
+    cupboard within max_steps; the reward is the score's gain). Default 'search'.
     """
     max_steps: int
     """Episode length: the time limit (truncation) and the scale of the time-left entry of the
@@ -330,6 +331,10 @@ class EpisodeSettings(SceneSettings, total=False):
     reward_wrong_claim: float
     """Paid (negated) when a claim (the identify task) names a jar other than the target, or no
     jar; a correct claim is paid reward_success. Default 1.0. Range [0, inf).
+    """
+    reward_map: float
+    """Per mm the map task's outline distance (map_score_mm) shrinks in a step; a growth costs as
+    much. Default 0.1. Range [0, inf).
     """
     reward_approach: float
     """Shaping, per metre the fingertip's path distance to the target shrinks in a step: over an

@@ -29,6 +29,9 @@ settings! {
         /// Paid (negated) when a claim (the identify task) names a jar other than the
         /// target, or no jar; a correct claim is paid reward_success.
         wrong_claim: f64 = 1.0 => "reward_wrong_claim" in Range::NON_NEGATIVE,
+        /// Per mm the map task's outline distance (map_score_mm) shrinks in a step; a
+        /// growth costs as much.
+        map: f64 = 0.1 => "reward_map" in Range::NON_NEGATIVE,
         /// Shaping, per metre the fingertip's path distance to the target shrinks in a step:
         /// over an episode it adds reward_approach times (start distance - final distance),
         /// so it also pays for ending nearer the target and, with discounting, for getting
@@ -43,10 +46,12 @@ settings! {
     /// One episode's configuration: its own settings, then the map, the reward and the
     /// scene.
     pub struct EpisodeConfig {
-        /// What the episode asks: 'search' (v0: a touch of the hidden target succeeds) or
+        /// What the episode asks: 'search' (v0: a touch of the hidden target succeeds),
         /// 'identify' (the target is the only jar of its shape, target_shape, among jars of
         /// the other; a touch of it pays nothing, and the episode ends with a claim, the
-        /// action's 4th entry, naming the jar the finger touches).
+        /// action's 4th entry, naming the jar the finger touches) or 'map' (no target:
+        /// touch so that the evidence reconstructs the cupboard within max_steps; the
+        /// reward is the score's gain).
         task: Task = Task::Search => "task" in Range::FINITE,
         /// Episode length: the time limit (truncation) and the scale of the time-left entry
         /// of the proprioception.

@@ -16,10 +16,11 @@ use super::action_mode::{Action, ActionMode};
 use super::approach::{fingertip, ApproachField};
 use super::config::EpisodeConfig;
 use super::error::EpisodeError;
+use super::map_score::MapScore;
 use super::maps::gpis::GpisMap;
 use super::maps::occupancy::OccupancyGrid;
 use super::maps::{AgentMap, MapKind};
-use super::metrics::footprint_mask;
+use super::metrics::{footprint_mask, footprint_of};
 use super::observation::{proprio, PROPRIO_LEN};
 use super::probe::{Phase, ProbeController};
 use super::step_info::StepInfo;
@@ -55,6 +56,12 @@ pub struct Episode {
     /// The fingertip's path distance to the target after the last step (the approach
     /// shaping's potential; the info shows it only where the task reveals the target).
     target_distance: f64,
+    /// The map task's reconstruction (None in other tasks).
+    score: Option<MapScore>,
+    /// Its outline distance after the last step, mm, and that distance summed over the
+    /// motions since reset (each step's after it, times its motions).
+    score_mm: f64,
+    score_sum: f64,
     /// Where a reset's two independent pieces (the approach field, the map's prior) and
     /// the map's grid updates run: this thread, or a batch's idle threads too.
     tiles: Arc<dyn TileRunner>,
@@ -76,6 +83,10 @@ impl Episode {
         let kind = config.map.mode.kind();
         let map = (kind.build)(&config.map, &grid)?;
         let probes = ProbeController::for_episode(&config);
+        let score = match config.task.scores_map() {
+            true => Some(MapScore::new(&config.map, &grid)?),
+            false => None,
+        };
         Ok(Self {
             scene_config: config.section(|c| &c.scene),
             config,
@@ -91,6 +102,9 @@ impl Episode {
             iou: None,
             approach: ApproachField::default(),
             target_distance: 0.0,
+            score,
+            score_mm: 0.0,
+            score_sum: 0.0,
             tiles: Arc::new(SerialTiles),
             probes,
             last_info: StepInfo::default(),
@@ -178,10 +192,15 @@ impl Episode {
         ];
         run_each(self.tiles.as_ref(), pieces, |piece| piece());
         map_reset?;
+        if let Some(score) = &mut self.score {
+            score.reset(slice, camera)?;
+        }
         self.add_touch();
         let (mut info, _) = self.measure();
         info.iou = self.current_iou();
         self.target_distance = self.distance_to_target();
+        self.score_sum = 0.0;
+        self.score_step(&mut info);
         self.last_info = info;
         Ok(())
     }
@@ -202,6 +221,9 @@ impl Episode {
         let report = self.map.add_touch(&readings, swept);
         if report.changed {
             self.iou = None;
+        }
+        if let Some(score) = &mut self.score {
+            score.add_touch(&readings, swept);
         }
         (count, report.rows_added, report.skipped, report.dropped)
     }
@@ -281,6 +303,15 @@ impl Episode {
     /// their last motion's IoU, so the motions before it need none). Cost O(G) when
     /// recomputed, O(jars) otherwise.
     fn current_iou(&mut self) -> f64 {
+        self.refresh_truth();
+        match self.iou {
+            Some(iou) => iou,
+            None => *self.iou.insert(self.map.iou(&self.truth)),
+        }
+    }
+
+    /// Redraws the true footprints' mask when a jar moved since it was drawn.
+    fn refresh_truth(&mut self) {
         let jars = self.scene().jar_states();
         let poses = jars.iter().map(|jar| {
             let [x, y, z] = jar.position;
@@ -293,10 +324,34 @@ impl Episode {
             self.truth_poses.extend(poses);
             self.iou = None;
         }
-        match self.iou {
-            Some(iou) => iou,
-            None => *self.iou.insert(self.map.iou(&self.truth)),
+    }
+
+    /// The map task's scores after a reset or a step (measured once per step, however
+    /// many motions it made), into `info`: the IoU, the outline distance, the area and the
+    /// reward for the distance's shrink (added to `info.reward`). Nothing in other tasks.
+    fn score_step(&mut self, info: &mut StepInfo) {
+        if self.score.is_none() {
+            return;
         }
+        self.refresh_truth();
+        let footprints: Vec<_> = self.scene().jar_states().iter().map(footprint_of).collect();
+        let score = self.score.as_ref().expect("checked above");
+        let mm = 1000.0 * score.outline_distance(&footprints);
+        info.map_score_iou = score.iou(&self.truth);
+        info.map_score_mm = mm;
+        if info.motions > 0 {
+            info.reward_map = self.config.reward.map * (self.score_mm - mm);
+            info.reward += info.reward_map;
+        }
+        self.score_mm = mm;
+        self.score_sum += mm * info.motions as f64;
+        // At the episode's end the rest of the budget counts at the final distance, so the
+        // area always spans max_steps motions.
+        let rest = match info.terminated || info.truncated {
+            true => self.config.max_steps.saturating_sub(self.steps) as f64,
+            false => 0.0,
+        };
+        info.map_score_area = (self.score_sum + mm * rest) / self.config.max_steps as f64;
     }
 
     /// Takes one step. In the `wrist` action mode `action` is a wrist motion in [−1, 1]³
@@ -347,6 +402,7 @@ impl Episode {
             Action::Claim => self.claim(),
         };
         info.iou = self.current_iou();
+        self.score_step(&mut info);
         self.last_info = info;
         Ok(info)
     }

@@ -11,7 +11,8 @@
 //! - [`step_info`]: what a step did, and the field table of `info`.
 //! - [`metrics`]: true footprints and the IoU of a map against them.
 //! - [`level_set`], [`outline`]: the map's zero level set and its distance to the true
-//!   outlines.
+//!   outlines; [`map_score`]: the map task's score, a reconstruction of every episode's
+//!   evidence scored against the truth.
 //! - [`action_mode`]: what an action means (a wrist motion or a probe per step).
 //! - [`probe`]: the `probe` action mode's controller (a lane, depth and sweep per step,
 //!   carried out motion by motion); [`probe_config`]: its settings.
@@ -29,6 +30,7 @@ pub mod config;
 mod episode;
 pub mod error;
 pub mod level_set;
+pub mod map_score;
 pub mod maps;
 pub mod metrics;
 pub mod observation;

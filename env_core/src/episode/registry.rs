@@ -97,6 +97,18 @@ pub const REGISTERED_ENVS: &[RegisteredEnv] = &[
         settings: &[IDENTIFY[0], IDENTIFY[1], IDENTIFY[2], IDENTIFY[3], DENSE],
         history: "v0: the identify task with 8 to 14 jars, one hidden decoy.",
     },
+    RegisteredEnv {
+        id: "tactile_search/MapByTouch-v0",
+        task: Task::Map,
+        summary: "no target: touch so that the evidence reconstructs the cupboard within the \
+                  time limit, scored the same whatever map the agent observes",
+        settings: &[
+            ("task", Preset::Text("map")),
+            // The budget is fixed: a cost per motion would only shift every return.
+            ("reward_step_cost", Preset::Float(0.0)),
+        ],
+        history: "v0: the map task at the default layouts, 200 motions.",
+    },
 ];
 
 #[cfg(test)]

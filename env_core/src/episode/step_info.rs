@@ -10,7 +10,7 @@
 /// reward terms are the sums of theirs.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct StepInfo {
-    /// Total reward: the sum of the six terms below.
+    /// Total reward: the sum of the seven terms below.
     pub reward: f64,
     /// `reward.success` when the episode succeeded this step (the finger touched the target;
     /// in the identify task, a claim named it), else 0.
@@ -27,6 +27,20 @@ pub struct StepInfo {
     pub reward_approach: f64,
     /// `−reward.wrong_claim` when a claim named a jar other than the target, or none.
     pub reward_wrong_claim: f64,
+    /// `reward.map ·` how much the map task's outline distance (`map_score_mm`) shrank
+    /// this step.
+    pub reward_map: f64,
+    /// The map task's score: the IoU of the reconstruction with the true footprints (0 in
+    /// other tasks).
+    pub map_score_iou: f64,
+    /// The map task's outline distance, mm: the mean of the two directed mean distances
+    /// between the reconstruction's zero level set and the true outlines (0 in other tasks).
+    pub map_score_mm: f64,
+    /// The map task's outline distance summed over the motions so far (each step's after
+    /// it, times its motions), over `max_steps`, mm; at the episode's end the rest of the
+    /// budget counts at the final distance, so it is the mean over the budget (lower is
+    /// better, 0 for a perfect map from the first motion).
+    pub map_score_area: f64,
     /// The episode ended (success, a tipped jar or a claim).
     pub terminated: bool,
     /// The time limit ended the episode: `steps >= max_steps` and not terminated.
@@ -88,6 +102,7 @@ impl StepInfo {
             reward_tip: self.reward_tip + next.reward_tip,
             reward_approach: self.reward_approach + next.reward_approach,
             reward_wrong_claim: self.reward_wrong_claim + next.reward_wrong_claim,
+            reward_map: self.reward_map + next.reward_map,
             contacts: self.contacts + next.contacts,
             rows_added: self.rows_added + next.rows_added,
             contacts_skipped: self.contacts_skipped + next.contacts_skipped,
@@ -165,6 +180,7 @@ info_fields! {
     reward_tip: Float, "-reward_tip when a jar tipped over this step, else 0";
     reward_approach: Float, "reward_approach times the shrink of the fingertip's path distance to the target this step";
     reward_wrong_claim: Float, "-reward_wrong_claim when a claim named a jar other than the target, or none";
+    reward_map: Float, "reward_map times the shrink of the map task's outline distance (map_score_mm) this step";
     target_distance: Float, "the fingertip's path distance to the target, m (0 in the identify task, which keeps the target secret)";
     success: Flag, "the episode succeeded: the finger touched the target (search), a claim named it (identify)";
     wrong_claim: Flag, "a claim named a jar other than the target, or none (identify)";
@@ -181,6 +197,9 @@ info_fields! {
     contacts_dropped: Count, "readings dropped because the map was full";
     gpis_rows: Count, "GPIS rows held";
     iou: Float, "IoU of the map's interior against the true jar footprints";
+    map_score_iou: Float, "the map task's score: IoU of the core's GPIS of the evidence with the true footprints (0 in other tasks)";
+    map_score_mm: Float, "the map task's outline distance, mm: mean of the two directed distances between that GPIS's zero level set and the true outlines (0 in other tasks)";
+    map_score_area: Float, "the map task's outline distance over the budget: summed over the motions so far (the rest of the budget at the final one when the episode ends), over max_steps, mm (0 in other tasks)";
     clipped: Flag, "the action was outside [-1, 1] and was clipped";
     blocked: Flag, "a wall or the workspace edge stopped the hand";
     motions: Count, "wrist motions this step (1 in the wrist action mode, a probe's in the probe mode)";

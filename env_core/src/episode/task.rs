@@ -7,6 +7,9 @@
 //!   nothing; the episode ends with a claim, an entry of the action that names the jar the
 //!   finger is touching ([`Claim`]). The target's identity stays out of the observation and
 //!   out of the info until the claim.
+//! - `map`: no target. Within the time limit's motions, touch so that the episode's
+//!   evidence reconstructs the cupboard's contents ([`super::map_score`]); the reward is the
+//!   score's gain.
 
 /// What an episode asks of the agent.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -15,12 +18,15 @@ pub enum Task {
     Search,
     /// Find the jar of the target's shape among decoys and claim it by touch.
     Identify,
+    /// Reconstruct the cupboard's contents by touch within the time limit.
+    Map,
 }
 
 crate::choice! {
     Task {
         Search => "search",
         Identify => "identify",
+        Map => "map",
     }
 }
 
@@ -36,9 +42,14 @@ impl Task {
     }
 
     /// Whether the info may say where the target is before the episode ends
-    /// (`target_distance`): only where the target is no secret.
+    /// (`target_distance`): only where the target is no secret (and there is one).
     pub fn reveals_target(self) -> bool {
         self == Self::Search
+    }
+
+    /// Whether the episode scores its reconstruction of the cupboard (and pays its gain).
+    pub fn scores_map(self) -> bool {
+        self == Self::Map
     }
 
     /// What the task asks, for the environments' docs.
@@ -57,6 +68,17 @@ impl Task {
                  shape of the jar the finger touches. The episode ends with a claim, the \
                  action's last entry, which names the jar the finger touches."
             }
+            Self::Map => {
+                "There is no target. Within max_steps wrist motions the agent touches the \
+                 jars so that the episode's evidence, the depth camera's first look and every \
+                 touch, reconstructs the cupboard's contents. The score is the same for every \
+                 agent whatever map it observes: the core's exact GPIS of that evidence, \
+                 scored against the jars' true footprints by the mean distance between its \
+                 zero level set and the true outlines (map_score_mm, both directions, each \
+                 point capped at 50 mm), whose shrink is the reward, and by IoU \
+                 (map_score_iou); map_score_area is the distance's mean over the budget's \
+                 motions (the area under it)."
+            }
         }
     }
 
@@ -72,6 +94,10 @@ impl Task {
                  wrong_claim, also when the finger touches no jar) or a jar tips over \
                  (failure). Truncation: max_steps wrist motions without a claim (failure). \
                  A claim makes no motion and is no step of the time limit."
+            }
+            Self::Map => {
+                "Termination: a jar tips over. Truncation: max_steps wrist motions, the \
+                 budget (success is never set; the score is the result)."
             }
         }
     }
@@ -125,6 +151,12 @@ mod tests {
         assert!(Task::Search.touch_succeeds() && !Task::Search.claims());
         assert!(!Task::Identify.touch_succeeds() && Task::Identify.claims());
         assert!(!Task::Identify.reveals_target());
+    }
+
+    #[test]
+    fn only_the_map_task_scores_a_map_and_it_has_no_target() {
+        assert!(Task::Map.scores_map() && !Task::Search.scores_map());
+        assert!(!Task::Map.touch_succeeds() && !Task::Map.claims() && !Task::Map.reveals_target());
     }
 
     #[test]

@@ -53,8 +53,16 @@ def run_description(result: BenchmarkResult, actions: str, overridden: dict[str,
 
 
 def summary_line(result: BenchmarkResult) -> str:
-    """The summary as one line: success with its interval, steps, tips, displacement, IoU."""
+    """The summary as one line: success with its interval, steps, tips, displacement, IoU
+    (and the wrong claims of the identify task); the map task's scores instead."""
     s = result.summary
+    if result.task == "map":
+        return (
+            f"{s.agent} on {s.episodes} {result.split} layouts ({s.map_mode} map): outline "
+            f"distance {s.map_score_mm:.1f} mm at the end, {s.map_score_area:.1f} mm over the "
+            f"budget (area), IoU {s.map_score_iou:.3f}, tip rate {100 * s.tip_rate:.1f} %, "
+            f"displacement {s.displacement_mm:.1f} mm"
+        )
     steps = (
         "-"
         if math.isnan(s.steps_median)

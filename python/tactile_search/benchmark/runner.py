@@ -29,10 +29,12 @@ from tactile_search.envs.vector import CupboardSearchVectorEnv
 from tactile_search.seed_ranges import TEST, held_out_seeds
 
 #: The per-episode row's keys, in order (``wrong_claim``: the identify task's failure by a
-#: claim on another jar or none; always False in the search task).
+#: claim on another jar or none, always False elsewhere; ``map_score_*``: the map task's
+#: final outline distance (mm), IoU and the distance's mean over the budget (mm), 0
+#: elsewhere).
 ROW_KEYS = (
     "seed", "success", "wrong_claim", "steps", "actions", "tips", "jar_displacement",
-    "max_jar_displacement", "iou", "reward",
+    "max_jar_displacement", "iou", "reward", "map_score_mm", "map_score_iou", "map_score_area",
 )  # fmt: skip
 
 
@@ -50,6 +52,9 @@ def episode_row(seed: int, info: dict[str, Any], actions: int, reward: float) ->
         "max_jar_displacement": float(info["max_jar_displacement"]),
         "iou": float(info["iou"]),
         "reward": float(reward),
+        "map_score_mm": float(info["map_score_mm"]),
+        "map_score_iou": float(info["map_score_iou"]),
+        "map_score_area": float(info["map_score_area"]),
     }
 
 

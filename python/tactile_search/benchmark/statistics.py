@@ -35,6 +35,11 @@ class Summary:
     iou: float
     # The share of episodes that ended with a wrong claim (the identify task; 0 elsewhere).
     wrong_claim_rate: float = 0.0
+    # The map task's means over episodes (0 elsewhere): the final outline distance (mm),
+    # the final IoU and the distance's mean over the budget (mm, the area under the curve).
+    map_score_mm: float = 0.0
+    map_score_iou: float = 0.0
+    map_score_area: float = 0.0
 
     @property
     def success_rate(self) -> float:
@@ -84,4 +89,7 @@ def summarize(agent: str, map_mode: str, episodes: Sequence[dict[str, Any]]) -> 
         tip_rate=statistics.fmean(e["tips"] > 0 for e in episodes),
         iou=statistics.fmean(e["iou"] for e in episodes),
         wrong_claim_rate=statistics.fmean(bool(e.get("wrong_claim", False)) for e in episodes),
+        map_score_mm=statistics.fmean(e.get("map_score_mm", 0.0) for e in episodes),
+        map_score_iou=statistics.fmean(e.get("map_score_iou", 0.0) for e in episodes),
+        map_score_area=statistics.fmean(e.get("map_score_area", 0.0) for e in episodes),
     )
