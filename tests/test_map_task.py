@@ -79,3 +79,16 @@ def test_the_benchmark_reports_the_map_scores() -> None:
     assert summary.map_score_mm == pytest.approx(np.mean([r["map_score_mm"] for r in result.rows]))
     line = summary_line(result)
     assert "outline distance" in line and "area" in line and "success" not in line
+
+
+def test_render_shows_the_reconstruction_the_score_is_measured_on() -> None:
+    search = gym.make(tactile_search.ENV_ID, render_mode="rgb_array")
+    mapping = gym.make(MAP, render_mode="rgb_array")
+    search.reset(seed=1_000_002)
+    mapping.reset(seed=1_000_002)
+    state = mapping.unwrapped.render_state()
+    assert state["score_mean"].shape == (40, 80)
+    assert search.unwrapped.render_state()["score_mean"] is None
+    # One more panel than the search task's frame: the reconstruction beside the map.
+    wide, narrow = mapping.render(), search.render()
+    assert wide.shape[0] == narrow.shape[0] and wide.shape[1] > narrow.shape[1]

@@ -166,14 +166,19 @@ def render_frame(state: dict[str, Any]) -> np.ndarray:
     ``PIXELS_PER_METRE`` and ``SCENE_MARGIN`` (``episode_frame``), drawn with numpy alone:
     the scene from above (the cupboard and what is in front of it), then a panel per grid
     of the map, in the core's order (GPIS mean with its zero level in black, and std; or
-    the occupancy), each with the jars' true outlines in magenta."""
+    the occupancy), each with the jars' true outlines in magenta; in the map task a last
+    panel, the reconstruction its score is measured on, drawn as a GPIS mean."""
     scene = _scene_panel(state)
     # The map's panels are the scene panel's rows behind the opening.
     map_height = _Panel(state["bounds"]).height
     outlines = _edges(state["jar_pixels"][:map_height] >= 0)
+    grids = dict(state["map"])
+    if state.get("score_mean") is not None:
+        # The map task's reconstruction, drawn as a GPIS mean against the true outlines.
+        grids["score"] = state["score_mean"]
     panels = [scene] + [
-        _map_panel(name, grid, state, outlines, scene.shape[0])
-        for name, grid in state["map"].items()
+        _map_panel("mean" if name == "score" else name, grid, state, outlines, scene.shape[0])
+        for name, grid in grids.items()
     ]
     gap = np.empty((scene.shape[0], 4, 3), dtype=np.uint8)
     gap[:] = 255

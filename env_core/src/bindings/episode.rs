@@ -438,7 +438,8 @@ impl PyEpisodeBatch {
 
     /// Ground truth and map of episode `index` for rendering: jars (shape name, centre,
     /// yaw, half width, tilt, whether the target, whether a hidden decoy), the last step's
-    /// `claim` (`{"jar", "correct"}`, None without one), hand, finger, contacts, the hand's
+    /// `claim` (`{"jar", "correct"}`, None without one), the map task's reconstruction
+    /// `score_mean` (its GPIS mean grid, None in other tasks), hand, finger, contacts, the hand's
     /// sizes, the map's bounds, its grids by name under `map` (`mean` and `std` for gpis,
     /// `occupancy`; none in the `none` mode, in the order of the mode's channels), and,
     /// given `pixels_per_metre`, `jar_pixels`: which jar covers each pixel (its index, -1
@@ -479,7 +480,8 @@ impl PyEpisodeBatch {
             j.set_item("yaw", crate::episode::metrics::yaw_of(jar.rotation))?;
             j.set_item("half_width", jar.spec.shape.half_width())?;
             j.set_item("tilt", jar.disturbance.tilt)?;
-            j.set_item("is_target", i == scene.target())?;
+            let target = self.config.task.has_target() && i == scene.target();
+            j.set_item("is_target", target)?;
             j.set_item("is_decoy", scene.layout().decoys.contains(&i))?;
             jars.append(j)?;
         }
@@ -522,6 +524,14 @@ impl PyEpisodeBatch {
             map.set_item(name, grid)?;
         }
         d.set_item("map", map)?;
+        // The map task's reconstruction, which its score is measured on (None elsewhere).
+        match episode.map_score() {
+            Some(score) => {
+                let mean = PyArray1::from_vec(py, score.mean_grid().to_vec()).reshape([h, w])?;
+                d.set_item("score_mean", mean)?;
+            }
+            None => d.set_item("score_mean", py.None())?,
+        }
         let Some(pixels_per_metre) = pixels_per_metre else {
             return Ok(d);
         };

@@ -561,6 +561,11 @@ impl Episode {
             .map(GpisMap::gpis)
     }
 
+    /// The map task's reconstruction (None in other tasks).
+    pub fn map_score(&self) -> Option<&MapScore> {
+        self.score.as_ref()
+    }
+
     /// The occupancy grid, in the `occupancy` mode.
     pub fn occupancy(&self) -> Option<&OccupancyGrid> {
         self.map.as_any().downcast_ref::<OccupancyGrid>()

@@ -58,6 +58,11 @@ impl MapScore {
         self.map.add_touch(readings, swept);
     }
 
+    /// The reconstruction's mean on the grid (H·W values, row-major), m.
+    pub fn mean_grid(&self) -> &[f64] {
+        self.map.gpis().mean_grid()
+    }
+
     /// The IoU of the reconstruction's interior with `truth` (the footprints' grid mask).
     pub fn iou(&self, truth: &[bool]) -> f64 {
         score_iou(self.map.gpis().mean_grid(), truth)

@@ -47,6 +47,12 @@ impl Task {
         self == Self::Search
     }
 
+    /// Whether the task has a target (the map task's layout has one jar generated as a
+    /// target, which is a jar like any other there).
+    pub fn has_target(self) -> bool {
+        self != Self::Map
+    }
+
     /// Whether the episode scores its reconstruction of the cupboard (and pays its gain).
     pub fn scores_map(self) -> bool {
         self == Self::Map
