@@ -5,7 +5,8 @@ A valid action (integers or real floats, as numpy reads it, of the right shape, 
 out-of-range values are clipped) steps with finite outputs in the spaces. Anything else
 (complex, string, datetime, boolean or object arrays included) raises ``ValueError`` or
 ``TypeError`` naming the action, and changes nothing: a twin env given only the valid
-actions of the same sequence stays bit-identical, autoresets included. A pyo3
+actions of the same sequence stays bit-identical, autoresets included; in every registered
+task and tier too, with and without the identify task's claim entry. A pyo3
 ``PanicException`` (a ``BaseException``) or any other exception is a failure. test_env.py
 and test_step_path.py check a few fixed bad actions; this file draws them.
 """
@@ -23,7 +24,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import array_shapes, arrays, scalar_dtypes
 
-from tactile_search import CupboardSearchEnv, CupboardSearchVectorEnv
+from tactile_search import ENV_ID, ENV_IDS, CupboardSearchEnv, CupboardSearchVectorEnv
 from tactile_search.envs.config import MAP_MODES
 
 DOCUMENTED = (ValueError, TypeError)
@@ -197,6 +198,49 @@ def test_vector_env_steps_valid_actions_and_refuses_the_rest_changing_nothing(
         assert_finite_info(info)
         assert_same(result, twin.step(actions))
         resetting = terminated | truncated
+
+
+# One env and its twin per registered id other than v0 (the tasks and tiers), wrist mode.
+TASK_IDS = [env_id for env_id in ENV_IDS if env_id != ENV_ID]
+TASKS = {
+    env_id: (gym.make(env_id, max_steps=5).unwrapped, gym.make(env_id, max_steps=5).unwrapped)
+    for env_id in TASK_IDS
+}
+
+
+@settings(max_examples=examples(2))
+@given(
+    env_id=st.sampled_from(TASK_IDS),
+    seed=st.integers(0, 2**64 - 1),
+    actions=st.lists(st.one_of(action_values((3,)), action_values((4,))), min_size=1, max_size=6),
+)
+def test_every_task_id_steps_valid_actions_and_refuses_the_rest_changing_nothing(
+    env_id: str, seed: int, actions: list
+) -> None:
+    """Actions with and without the identify task's claim entry: the id's own shape steps
+    (a claim entry above 0 claims and ends the episode), anything else is refused."""
+    env, twin = TASKS[env_id]
+    shape = env.action_space.shape
+    env.reset(seed=seed)
+    twin.reset(seed=seed)
+    for action in actions:
+        kind = classify(action, shape)
+        result, error = call(env.step, action)
+        if error is not None:
+            assert kind != VALID, (action, error)
+            assert "action" in str(error), error
+            continue
+        assert kind != INVALID, f"accepted {action!r}"
+        observation, reward, terminated, truncated, info = result
+        assert env.observation_space.contains(observation)
+        assert math.isfinite(reward)
+        assert_finite_info(info)
+        assert_same(result, twin.step(action))
+        if shape == (4,) and as_numbers(action)[3] > 0:
+            assert terminated and info["success"] != info["wrong_claim"]
+        if terminated or truncated:
+            env.reset(seed=seed // 2)
+            twin.reset(seed=seed // 2)
 
 
 SEEDS = st.one_of(
