@@ -22,6 +22,9 @@ SCRIPTED_AGENTS: dict[str, Callable[[], Agent]] = {
     "identify_planner": IdentifyPlanner,
 }
 
+#: The name of the upper-bound baseline (it knows the target).
+ORACLE = "oracle"
+
 #: The tasks (the ``task`` setting) each scripted agent plays: the search agents' actions
 #: carry no claim entry, the identify agents' do; the oracle's come from the core's.
 SCRIPTED_TASKS: dict[str, tuple[str, ...]] = {
@@ -39,6 +42,7 @@ def scripted_agents_for(task: str) -> list[str]:
 
 
 __all__ = [
+    "ORACLE",
     "SCRIPTED_AGENTS",
     "SCRIPTED_TASKS",
     "Agent",
