@@ -12,8 +12,8 @@ range). It reports success with its 95 % Wilson interval, wrong claims (identify
 motions to success (median and quartiles) and the share of episodes with a tip, and per
 tier how far the best baseline is below the oracle.
 
-Writes to ``--out``: ``standings.md`` (the tables, with the command, date and commit),
-``standings.json`` (the figures, with the same stamp) and ``rows/<id>__<agent>.json``
+Writes to ``--out``: ``<out>/standings.md`` (the tables, with the command, date and commit),
+``<out>/standings.json`` (the figures, with the same stamp) and ``<out>/rows/<id>__<agent>.json``
 (each agent's episode rows, reused by a later run of the same episodes and code unless
 ``--fresh``, so an interrupted run resumes).
 """
@@ -163,7 +163,7 @@ def markdown(rows: Sequence[dict[str, Any]], gaps: Sequence[dict[str, Any]], inf
 def run(
     env_ids: Sequence[str], episodes: int, out: Path, fresh: bool = False, command: str = ""
 ) -> dict[str, Any]:
-    """Runs every tier's agents, writes ``standings.md`` and ``standings.json`` to ``out``;
+    """Runs every tier's agents, writes ``<out>/standings.md`` and ``<out>/standings.json``;
     returns what the JSON holds."""
     seeds = held_out_seeds("validation", episodes)
     rows = []
