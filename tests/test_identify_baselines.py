@@ -2,7 +2,8 @@
 the observation and the static configuration, the planner claims the square jar on
 hand-checked validation layouts and judges shapes from contacts as a circle and a square give
 them, random_identify claims only while touching, every scripted agent is registered for the
-tasks it plays, ``agents.evaluate --env-id`` evaluates an identify id (example GIFs included,
+tasks it plays, their rows are the same side by side as one after another,
+``agents.evaluate --env-id`` evaluates an identify id (example GIFs included,
 a claim replayed), and the task standings write their tables."""
 
 from __future__ import annotations
@@ -18,8 +19,10 @@ import numpy as np
 import pytest
 
 from agents.evaluate import main as evaluate_main
+from agents.evaluation.agent_specs import make_agent
 from agents.evaluation.evaluation import env_id_settings
 from agents.evaluation.gifs import record_gif
+from agents.rollout import evaluate_agent, run_episodes
 from agents.scripted import (
     SCRIPTED_AGENTS,
     SCRIPTED_TASKS,
@@ -197,3 +200,14 @@ def test_the_standings_write_the_table_and_the_headroom(tmp_path: Path) -> None:
     assert kept["standings"] == json.loads(json.dumps(result["standings"]))
     table = (tmp_path / "standings.md").read_text()
     assert "| IdentifyByTouch-v0 | identify_planner | probe |" in table
+
+
+@pytest.mark.parametrize("spec", ["random_identify", "identify_planner"])
+def test_an_identify_agents_rows_are_the_same_side_by_side_as_one_after_another(
+    spec: str,
+) -> None:
+    seeds = list(range(1_000_000, 1_000_004))
+    agent, env_kwargs = make_agent(spec)
+    env_kwargs = {**env_kwargs, **gym.spec(IDENTIFY).kwargs}
+    sequential = run_episodes(agent, seeds, **env_kwargs)
+    assert evaluate_agent(agent, seeds, num_envs=2, **env_kwargs) == sequential
