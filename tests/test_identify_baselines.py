@@ -32,7 +32,7 @@ from agents.scripted import (
 )
 from agents.scripted.identify_planner import pair_evidence, shape_verdict
 from benchmarks import task_standings
-from tactile_search import CupboardSearchEnv
+from tactile_search import ENV_IDS, CupboardSearchEnv
 from tactile_search.envs.observation import PROPRIO
 
 IDENTIFY = "tactile_search/IdentifyByTouch-v0"
@@ -161,6 +161,11 @@ def test_every_scripted_agent_is_registered_with_the_tasks_it_plays() -> None:
     assert scripted_agents_for("search") == ["random", "oracle", "gpis_probe_planner"]
     assert scripted_agents_for("identify") == ["oracle", "random_identify", "identify_planner"]
     assert task_standings.tier_agents(IDENTIFY) == ["random_identify", "identify_planner", "oracle"]
+    # The standings run the ids of a task some baseline plays: the search and identify tiers.
+    tasks = {env_id: gym.spec(env_id).kwargs.get("task", "search") for env_id in ENV_IDS}
+    assert task_standings.standing_ids() == [
+        env_id for env_id in ENV_IDS if tasks[env_id] in ("search", "identify")
+    ]
 
 
 def rows(path: Path) -> list[dict[str, str]]:
