@@ -2,6 +2,8 @@
 
     python -m agents.evaluate --runs runs/ppo_gpis_seed0 runs/ppo_none_seed0 \\
         --scripted random gpis_probe_planner oracle --episodes 200 --out results
+    python -m agents.evaluate --env-id tactile_search/IdentifyByTouch-v0 \\
+        --scripted random_identify identify_planner oracle --out results/identify
 
 A thin CLI over ``agents.evaluation.evaluation.evaluate``, which documents what it writes.
 """
@@ -13,9 +15,10 @@ from pathlib import Path
 
 from agents.command_args import parse_setting
 from agents.evaluation.agent_specs import ACTIONS
-from agents.evaluation.evaluation import evaluate
+from agents.evaluation.evaluation import env_id_settings, evaluate
 from agents.evaluation.report import markdown_table
-from agents.scripted import SCRIPTED_AGENTS
+from agents.scripted import SCRIPTED_AGENTS, scripted_agents_for
+from tactile_search import ENV_ID, ENV_IDS
 from tactile_search.seed_ranges import SPLITS
 
 
@@ -25,9 +28,10 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument(
         "--scripted",
         nargs="*",
-        default=list(SCRIPTED_AGENTS),
+        default=None,
         choices=list(SCRIPTED_AGENTS),
-        help="scripted baselines to include",
+        help="scripted baselines to include (default: every one that plays the task of "
+        "--env-id and --env-settings)",
     )
     parser.add_argument("--episodes", type=int, default=200)
     parser.add_argument(
@@ -75,7 +79,18 @@ def main(argv: list[str] | None = None) -> None:
         "such as fast_free_motion=true (CupboardSearchEnv's keyword arguments; the agents' "
         "names end with them)",
     )
+    parser.add_argument(
+        "--env-id",
+        choices=list(ENV_IDS),
+        default=None,
+        help="the registered id whose task and tier every agent is evaluated in: its settings "
+        "(gymnasium.spec(id).kwargs) go under --env-settings; the agents' names end with the "
+        f"id's name (default: {ENV_ID}, the defaults)",
+    )
     args = parser.parse_args(argv)
+    if args.scripted is None:
+        task = {**env_id_settings(args.env_id), **dict(args.env_settings)}.get("task", "search")
+        args.scripted = scripted_agents_for(task)
     summaries = evaluate(
         [*args.runs, *args.scripted],
         out=args.out,
@@ -88,6 +103,7 @@ def main(argv: list[str] | None = None) -> None:
         actions=args.actions,
         blanked=args.blank_map_channels,
         env_settings=dict(args.env_settings),
+        env_id=args.env_id,
     )
     print(markdown_table(summaries))
 

@@ -124,6 +124,12 @@ def test_run_episodes_summarises_each_seed() -> None:
 
 
 def test_registry_builds_every_scripted_agent() -> None:
-    assert set(SCRIPTED_AGENTS) == {"random", "oracle", "gpis_probe_planner"}
+    assert set(SCRIPTED_AGENTS) == {
+        "random",
+        "oracle",
+        "gpis_probe_planner",
+        "random_identify",
+        "identify_planner",
+    }
     for name, factory in SCRIPTED_AGENTS.items():
         assert factory().name == name

@@ -32,6 +32,8 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+import gymnasium
+
 from agents.command_args import settings_label
 from agents.evaluation.agent_specs import make_agent, unique_names
 from agents.evaluation.ensemble import ensemble_members
@@ -47,6 +49,7 @@ from agents.evaluation.report import markdown_table, plot_learning_curves, plot_
 from agents.rollout import evaluate_agent
 from agents.run_dir import write_atomically
 from agents.scripted import SCRIPTED_AGENTS
+from tactile_search import ENV_ID, ENV_IDS
 from tactile_search._validation import as_bool
 from tactile_search.benchmark.statistics import Summary, summarize
 from tactile_search.envs.config import SETTINGS
@@ -73,22 +76,28 @@ def prepare_evaluation(
     actions: str = "recipe",
     blanked: Sequence[str] = (),
     env_settings: Mapping[str, Any] | None = None,
+    env_id: str | None = None,
 ) -> tuple[list[tuple[Any, dict[str, Any]]], list[str], dict[str, str], dict]:
     """What an evaluation of ``agent_specs`` on ``seeds`` into ``out`` starts from: each
-    agent with its env settings (``make_agent``, then ``env_settings`` over them), their
-    unique names (with the ``env_settings``' label), their fingerprints by spec, and the rows
-    of ``<out>/episodes.csv`` it reuses (none without ``resume``), by (name, seed);
+    agent with its env settings (``make_agent``, then the registered ``env_id``'s settings
+    and ``env_settings`` over them), their unique names (with the id's name and the
+    ``env_settings``' label), their fingerprints by spec, and the rows of
+    ``<out>/episodes.csv`` it reuses (none without ``resume``), by (name, seed);
     ``episodes.csv`` is rewritten to hold just those, agents as given, seeds ascending."""
     out.mkdir(parents=True, exist_ok=True)
     env_settings = checked_env_settings(env_settings)
+    id_settings = env_id_settings(env_id)
+    settings = {**id_settings, **env_settings}
     made = [
-        (agent, {**env_kwargs, **env_settings})
+        (agent, {**env_kwargs, **settings})
         for agent, env_kwargs in (make_agent(spec, actions, blanked) for spec in agent_specs)
     ]
     names = unique_names([agent for agent, _ in made], agent_specs)
+    if env_id not in (None, ENV_ID):
+        names = [f"{name} [{env_id.split('/')[-1]}]" for name in names]
     if env_settings:
         names = [f"{name} [{settings_label(env_settings)}]" for name in names]
-    fingerprints = code_fingerprints(agent_specs, actions, blanked, env_settings)
+    fingerprints = code_fingerprints(agent_specs, actions, blanked, settings)
     map_modes = [env_kwargs["map"] for _, env_kwargs in made]
     csv_path = out / "episodes.csv"
     done = (
@@ -99,6 +108,17 @@ def prepare_evaluation(
     kept = [done[name, seed] for name in names for seed in seeds if (name, seed) in done]
     write_episodes_csv(csv_path, kept)
     return made, names, fingerprints, done
+
+
+def env_id_settings(env_id: str | None) -> dict[str, Any]:
+    """The settings a registered id (``tactile_search.ENV_IDS``) makes its env with
+    (``gymnasium.spec(env_id).kwargs``), ``{}`` for None; ``ValueError`` for an id that is
+    not registered. Every one is a setting of the core (``checked_env_settings``)."""
+    if env_id is None:
+        return {}
+    if env_id not in ENV_IDS:
+        raise ValueError(f"env_id must be one of {list(ENV_IDS)}, got {env_id!r}")
+    return checked_env_settings(gymnasium.spec(env_id).kwargs)
 
 
 def checked_env_settings(env_settings: Mapping[str, Any] | None) -> dict[str, Any]:
@@ -152,6 +172,7 @@ def evaluate(
     actions: str = "recipe",
     blanked: Sequence[str] = (),
     env_settings: Mapping[str, Any] | None = None,
+    env_id: str | None = None,
 ) -> list[Summary]:
     """Runs every agent on the same held-out layouts and writes the table, plots and GIFs.
 
@@ -169,6 +190,10 @@ def evaluate(
     ``env_settings``: settings of the environment's core every agent is evaluated with over
     its own (such as ``{"fast_free_motion": True}``; not ``map`` or ``action_mode``); the
     agents' names end with them in brackets.
+    ``env_id``: a registered id (``tactile_search.ENV_IDS``) whose task and tier every agent
+    is evaluated in: its settings (``gymnasium.spec(env_id).kwargs``) go over each agent's
+    own and under ``env_settings``; the agents' names end with the id's name in brackets
+    (none for the default id, ``tactile_search.ENV_ID``, whose settings are the defaults).
 
     Each episode's row is appended to ``<out>/episodes.csv`` (and flushed) as the episode
     ends. With ``resume`` (the default) the rows already there whose agent, map, held-out
@@ -189,7 +214,7 @@ def evaluate(
     out = Path(out)
     seeds = evaluation_seeds(split, episodes, final)
     made, names, fingerprints, done = prepare_evaluation(
-        agent_specs, out, seeds, resume, actions, blanked, env_settings
+        agent_specs, out, seeds, resume, actions, blanked, env_settings, env_id
     )
     csv_path = out / "episodes.csv"
 
@@ -231,9 +256,11 @@ def evaluate(
             print(markdown_table(summaries[-1:]).splitlines()[-1], flush=True)
     write_episodes_csv(csv_path, [row for name in names for row in ordered(name)])
     table = markdown_table(summaries)
+    where = "" if env_id is None else f" of {env_id}"
     write_atomically(
         out / "results.md",
-        f"Held-out {split} layout seeds {seeds[0]}..{seeds[-1]} ({episodes} per agent).\n\n{table}",
+        f"Held-out {split} layout seeds {seeds[0]}..{seeds[-1]}{where} ({episodes} per agent)."
+        f"\n\n{table}",
     )
     plot_success(out / "success.png", summaries)
     plot_steps(out / "steps.png", names, all_episodes)

@@ -49,11 +49,17 @@ def record_gif(
             return
         assert twin is not None
         motions = env.last_motions()
+        # The identify task's actions carry a claim entry after the motion: 0, no claim.
+        extra = twin.action_space.shape[0] - motions.shape[1] if len(motions) else 0
         for i, motion in enumerate(motions):
-            twin.step(motion)
+            twin.step(np.r_[motion, np.zeros(extra)])
             motions_drawn += 1
             if motions_drawn % stride == 0 or (done and i == len(motions) - 1):
                 frames.append(twin.render())
+        if env.render_state().get("claim") is not None and twin.render_state().get("claim") is None:
+            # A claim makes no motion: the twin claims too, and the frame shows its ring.
+            twin.step(np.r_[np.zeros(3), 1.0])
+            frames.append(twin.render())
         if twin.render_state()["hand"] != env.render_state()["hand"]:
             raise RuntimeError(
                 f"the wrist-mode replay of layout {seed} left the probe's path at step {step}"
