@@ -1,10 +1,12 @@
-"""Soak test of CupboardSearch-v0: many steps, hostile actions, full GPIS maps; nothing leaks.
+"""Soak test of every registered id: many steps, hostile actions, full GPIS maps; no leaks.
 
 What it runs, in rounds (the first 30 % are the warm-up; every round does the same mix):
 single envs per map mode (the list comes from the package,
 ``tactile_search.envs.config.MAP_MODES``) and action kind, reset with a new layout seed from
 the training range (``tactile_search.seed_ranges.TRAINING``, ``docs/DESIGN.md`` §7) for
-every episode; GPIS maps filled to capacity in episodes; vector envs per map mode and size
+every episode; the single env of every other registered id (the identify task's claims, the
+dense layouts, the map task's score) with random and oracle actions; GPIS maps filled to
+capacity in episodes; vector envs per map mode and size
 (1, 4 and 16 episodes; the size-4 one with ``copy=False``); twin envs that must replay the
 clipped actions bit for bit; standalone ``Gpis`` maps filled to ``max_rows``; and envs built,
 stepped and closed each round. It asserts that every output is finite and only documented

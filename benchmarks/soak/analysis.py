@@ -78,6 +78,7 @@ from benchmarks.soak.plan import (
     MIN_BIN_STEPS,
     RSS_GROWTH_LIMIT,
     RUN_DRIFT_LIMIT,
+    TASK_KINDS,
     WARM_UP_FRACTION,
     power_range,
     setting,
@@ -85,8 +86,12 @@ from benchmarks.soak.plan import (
 from benchmarks.soak.reference import load_ratio, median
 from benchmarks.soak.report import SoakResult, verdict_lines
 from benchmarks.soak.workloads import Soak
+from tactile_search import ENV_ID, ENV_IDS
 from tactile_search.envs.config import MAP_MODES
 from tactile_search.seed_ranges import TRAINING
+
+#: The registered ids besides v0 the soak steps (by their names without the namespace).
+TASK_IDS = [env_id.rpartition("/")[2] for env_id in ENV_IDS if env_id != ENV_ID]
 
 #: The checks counted by failures during the run, in the order they are printed.
 PER_STEP_CHECKS = (
@@ -157,7 +162,8 @@ class Analysis:
             f"{soak.seed_base}..{soak.max_seed} (training range {power_range(TRAINING)})",
             f"covered: map modes {', '.join(MAP_MODES)}; action kinds "
             f"{', '.join(ACTION_KINDS)}; vector sizes {', '.join(map(str, scale.vector_sizes))} "
-            f"(x4 with copy=False)",
+            f"(x4 with copy=False); every other registered id ({', '.join(TASK_IDS)}) single, "
+            f"{', '.join(TASK_KINDS)}",
             f"GPIS at capacity: {soak.capacity_episodes:,} episodes with max_rows in "
             f"{soak.capacity_rows}, {soak.capacity_reached:,} reached it; standalone Gpis: "
             f"{soak.gpis['fills']:,} fills to max_rows in {scale.gpis_capacities}, "

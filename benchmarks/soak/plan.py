@@ -9,6 +9,7 @@ import dataclasses
 import math
 from typing import Any
 
+from tactile_search import ENV_ID, ENV_IDS
 from tactile_search.envs.config import MAP_MODES, SETTINGS
 
 #: The warm-up: this fraction of the rounds (rounded up, at least one), chosen before any
@@ -16,6 +17,9 @@ from tactile_search.envs.config import MAP_MODES, SETTINGS
 WARM_UP_FRACTION = 0.3
 
 ACTION_KINDS = ("random", "forward", "out_of_range", "invalid", "oracle")
+#: The action kinds each other registered id's single env is stepped with: random actions
+#: (the identify task's claim entry among them, so claims come often) and the oracle's.
+TASK_KINDS = ("random", "oracle")
 
 # ---- the limits the checks hold a run to (``benchmarks.soak.analysis``) -------------------
 #: Largest growth after the warm-up of the live heap (the leak check) and of the resident
@@ -81,6 +85,8 @@ class Config:
     copy: bool = True
     settings: dict[str, Any] = dataclasses.field(default_factory=dict)
     env: Any = None
+    #: The registered id (the task and tier) the configuration's env is made from.
+    env_id: str = ENV_ID
 
 
 def setting(key: str) -> dict[str, Any]:
@@ -106,10 +112,18 @@ def capacity_rows(scale: Scale) -> tuple[int, ...]:
 
 def configurations(scale: Scale, rows: tuple[int, ...]) -> list[Config]:
     """Every configuration of a round, in the order a round runs them: the single envs (each
-    map mode and action kind), the capacity episodes (``max_rows`` in ``rows``), then the
-    vector envs (each map mode, size and action kind; the size-4 one with ``copy=False``)."""
+    map mode and action kind), each other registered id's single env (the tasks and tiers:
+    claims, dense layouts, the map task's score; ``TASK_KINDS``), the capacity episodes
+    (``max_rows`` in ``rows``), then the vector envs (each map mode, size and action kind;
+    the size-4 one with ``copy=False``)."""
     configs = [
         Config(f"single {mode} {kind}", mode, kind) for mode in MAP_MODES for kind in ACTION_KINDS
+    ]
+    configs += [
+        Config(f"single {env_id.rpartition('/')[2]} {kind}", "gpis", kind, env_id=env_id)
+        for env_id in ENV_IDS
+        if env_id != ENV_ID
+        for kind in TASK_KINDS
     ]
     configs += [
         Config(f"single gpis max_rows={r} forward", "gpis", "forward", settings={"max_rows": r})

@@ -99,7 +99,7 @@ class Soak(Records):
         rng = np.random.default_rng([seed, index])
         twin = None
         if config.kind in ("out_of_range", "invalid") and rng.random() < 1 / TWIN_EVERY:
-            twin = gym.make(ENV_ID, map=config.mode, **config.settings)
+            twin = gym.make(config.env_id, map=config.mode, **config.settings)
             twin.reset(seed=seed)
             self.episodes["twin"] += 1
         self.episodes[config.name] += 1
@@ -123,7 +123,7 @@ class Soak(Records):
             bad_kind, bad = invalid_action(rng, None)
             self.refuse(f"{episode.where} step {episode.steps}", env, bad_kind, bad)
             return False
-        action = self.action(config.kind, env, (3,), rng)
+        action = self.action(config.kind, env, env.action_space.shape, rng)
         start = time.perf_counter_ns()
         obs, reward, terminated, truncated, info = env.step(action)
         elapsed = time.perf_counter_ns() - start
@@ -147,14 +147,17 @@ class Soak(Records):
         self, at: str, episode: Episode, action: Any, terminated: bool, truncated: bool,
         info: dict,
     ) -> None:  # fmt: skip
-        """The step counter, the time limit, the clipped flag and the map's capacity."""
+        """The step counter (a claim makes no motion), the time limit, the clipped flag and
+        the map's capacity."""
         steps = episode.steps
-        if info["steps"] != steps + 1:
+        if info["steps"] != steps + info["motions"] or info["motions"] > 1:
             self.fail("steps count", f"{at}: steps {steps} -> {info['steps']}")
         steps = episode.steps = info["steps"]
         if truncated != (steps >= episode.max_steps and not terminated):
             self.fail("truncated at max_steps", f"{at}: truncated={truncated}")
-        clipped = bool(np.any(np.abs(np.asarray(action, dtype=np.float64)) > 1))
+        # Only a motion is clipped: the claim entry is not, and a claim makes none.
+        motion = np.asarray(action, dtype=np.float64)[:3]
+        clipped = info["motions"] > 0 and bool(np.any(np.abs(motion) > 1))
         if info["clipped"] != clipped:
             self.fail("clipped flag", f"{at}: {action!r} gave clipped={info['clipped']}")
         max_rows = episode.max_rows
@@ -376,7 +379,7 @@ class Soak(Records):
         """Makes every long-lived env and parks it."""
         for config in self.configs:
             if config.num_envs is None:
-                config.env = gym.make(ENV_ID, map=config.mode, **config.settings)
+                config.env = gym.make(config.env_id, map=config.mode, **config.settings)
             else:
                 config.env = self.vector_env(config)
             self.park(config)
