@@ -238,9 +238,17 @@ class GpisProbePlanner:
         """Every grid probe the wrist and arm can make from ``pose`` without coming near a
         cell that may hold a jar, its sweep no wider than the largest safe turn, except a
         wait: its indices, the probe and the controller's motions to make it."""
+        return self._clear_probes(pose, self.belief.solid(0.0))
+
+    def _clear_probes(
+        self, pose: Pose, solid_cells: np.ndarray
+    ) -> list[tuple[tuple[int, int, int], Probe, float]]:
+        """``_candidates`` with the cells the finger must not sweep into given
+        (``solid_cells``, a mask of the belief's grid): every grid probe clear of them and of
+        every cell that may hold a jar for the wrist and arm, except a wait."""
         g = self.geometry
         field = ClearanceField(self.belief, self.belief.blocked())
-        solid = ClearanceField(self.belief, self.belief.solid(0.0))
+        solid = ClearanceField(self.belief, solid_cells)
         reachable = []
         for lane, x in enumerate(g.probe_lanes):
             deepest = deepest_clear(g, field, solid, float(x))

@@ -49,7 +49,6 @@ from typing import ClassVar
 
 import numpy as np
 
-from agents.scripted.clearance import ClearanceField, deepest_clear, safe_angle
 from agents.scripted.gpis_probe_planner import GpisProbePlanner, Pose, Probe, _forward
 from tactile_search import CupboardSearchEnv
 from tactile_search.envs.observation import PROPRIO
@@ -326,37 +325,7 @@ class IdentifyPlanner(GpisProbePlanner):
         inspected (it stops at the touch): its indices, the probe and its motions."""
         g, belief = self.geometry, self.belief
         near = np.hypot(belief.xs - jar.centre[0], belief.ys - jar.centre[1])
-        field = ClearanceField(belief, belief.blocked())
-        solid = ClearanceField(belief, belief.solid(0.0) & (near > g.jar_radius[1] + INSIDE_REACH))
-        reachable = []
-        for lane, x in enumerate(g.probe_lanes):
-            deepest = deepest_clear(g, field, solid, float(x))
-            if deepest is None:
-                continue
-            for depth, y in enumerate(g.probe_depths):
-                if y > deepest + 1e-9:
-                    break
-                safe = {
-                    side: safe_angle(g, field, solid, float(x), float(y), side)
-                    for side in (-1.0, 1.0)
-                }
-                for sweep, yaw in enumerate(g.probe_yaws):
-                    side = 1.0 if yaw < 0.0 else -1.0
-                    angle = abs(float(yaw))
-                    if angle > safe[side] + 1e-9:
-                        continue
-                    probe = Probe(float(x), float(y), side, angle)
-                    if self._is_here(pose, probe, float(yaw)):
-                        continue
-                    reachable.append(((lane, depth, sweep), probe))
-        if not reachable:
-            return []
-        indices = np.array([index for index, _ in reachable], dtype=np.int64)
-        motions = self._probe_motions((pose.x, pose.y, pose.yaw), indices)
-        return [
-            (index, probe, float(count))
-            for (index, probe), count in zip(reachable, motions, strict=True)
-        ]
+        return self._clear_probes(pose, belief.solid(0.0) & (near > g.jar_radius[1] + INSIDE_REACH))
 
     def _first_touches(
         self, pose: Pose, probes: list[Probe], centre: np.ndarray
