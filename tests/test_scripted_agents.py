@@ -124,6 +124,11 @@ def test_run_episodes_summarises_each_seed() -> None:
 
 
 def test_registry_builds_every_scripted_agent() -> None:
-    assert set(SCRIPTED_AGENTS) == {"random", "oracle", "gpis_probe_planner"}
+    assert set(SCRIPTED_AGENTS) == {"random", "oracle", "gpis_probe_planner"} | {
+        "random_map",
+        "variance_mapper",
+        "occupancy_mapper",
+        "map_oracle",
+    }
     for name, factory in SCRIPTED_AGENTS.items():
         assert factory().name == name
