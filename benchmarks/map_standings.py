@@ -6,8 +6,10 @@ Each baseline (``agents.scripted.map_probe``: ``random_map``, ``variance_mapper`
 settings with its own map mode. Per baseline: the final outline distance
 (``map_score_mm``, mean and 95 % t interval), the distance's mean over the budget
 (``map_score_area``), the final IoU of the score's reconstruction (``map_score_iou``), the
-probes, tips and jar displacement. Writes ``standings.md`` and ``standings.json`` (with the
-per-episode rows) to ``--out``; the baselines run in parallel processes (``--jobs``).
+probes, tips and jar displacement. Writes a markdown table and a JSON file with the
+per-episode rows to the folder ``--out`` (the committed run:
+``docs/results/map_standings/standings.md`` and ``standings.json`` beside it); the
+baselines run in parallel processes (``--jobs``).
 
 Run (from the repository root): ``python -m benchmarks.map_standings [--episodes 200]
 [--out docs/results/map_standings] [--jobs 2]``.
@@ -54,6 +56,33 @@ def play(name: str, seeds: list[int]) -> list[dict[str, Any]]:
     return run_episodes(SCRIPTED_AGENTS[name](), seeds, **env_settings(name))
 
 
+def depth_look_only(seeds: list[int]) -> list[dict[str, Any]]:
+    """The reference of no touch at all: each layout's score after the reset (the depth
+    camera's first look alone), as the rows of an episode that never moves."""
+    import gymnasium
+
+    import tactile_search  # noqa: F401  (registers the ids)
+    from tactile_search import CupboardSearchEnv
+
+    env = CupboardSearchEnv(**gymnasium.spec(ENV_ID).kwargs)
+    rows = []
+    for seed in seeds:
+        _, info = env.reset(seed=seed)
+        rows.append(
+            {
+                "seed": seed,
+                "map_score_mm": float(info["map_score_mm"]),
+                "map_score_area": float(info["map_score_mm"]),
+                "map_score_iou": float(info["map_score_iou"]),
+                "actions": 0,
+                "tips": 0,
+                "jar_displacement": 0.0,
+            }
+        )
+    env.close()
+    return rows
+
+
 def mean_interval(values: list[float]) -> tuple[float, float, float]:
     """Mean and its 95 % t interval."""
     x = np.asarray(values, dtype=float)
@@ -64,13 +93,15 @@ def mean_interval(values: list[float]) -> tuple[float, float, float]:
     return mean, mean - half, mean + half
 
 
-def summarize(name: str, rows: list[dict[str, Any]], seconds: float) -> dict[str, Any]:
+def summarize(
+    name: str, rows: list[dict[str, Any]], seconds: float, settings: dict[str, Any] | None = None
+) -> dict[str, Any]:
     mm = mean_interval([r["map_score_mm"] for r in rows])
     area = mean_interval([r["map_score_area"] for r in rows])
     iou = mean_interval([r["map_score_iou"] for r in rows])
     return {
         "agent": name,
-        "settings": env_settings(name),
+        "settings": env_settings(name) if settings is None else settings,
         "episodes": len(rows),
         "map_score_mm": {"mean": mm[0], "ci95": [mm[1], mm[2]]},
         "map_score_area": {"mean": area[0], "ci95": [area[1], area[2]]},
@@ -125,7 +156,12 @@ def main(argv: list[str] | None = None) -> None:
     with ProcessPoolExecutor(max_workers=args.jobs) as pool:
         futures = {name: pool.submit(timed_play, name, seeds) for name in args.agents}
         results = {name: future.result() for name, future in futures.items()}
-    summaries = [summarize(name, *results[name]) for name in args.agents]
+    start = time.perf_counter()
+    reference = depth_look_only(seeds)
+    summaries = [
+        summarize("depth_look_only", reference, time.perf_counter() - start, {"map": "(no motion)"})
+    ]
+    summaries += [summarize(name, *results[name]) for name in args.agents]
 
     commit = subprocess.run(
         ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=False
@@ -147,7 +183,10 @@ def main(argv: list[str] | None = None) -> None:
     payload = {
         **meta,
         "summaries": summaries,
-        "rows": {name: results[name][0] for name in args.agents},
+        "rows": {
+            "depth_look_only": reference,
+            **{name: results[name][0] for name in args.agents},
+        },
     }
     (args.out / "standings.json").write_text(json.dumps(payload, indent=1) + "\n")
     markdown = (
@@ -156,7 +195,9 @@ def main(argv: list[str] | None = None) -> None:
         "action mode, 200 wrist motions. Final distance: `map_score_mm` (mean outline "
         "distance of the score's GPIS to the true outlines, lower is better); area: "
         "`map_score_area` (its mean over the budget, lower is better); IoU: `map_score_iou`. "
-        "Intervals: 95 % t intervals of the mean. `map_oracle` reads the ground truth.\n\n"
+        "Intervals: 95 % t intervals of the mean. `depth_look_only` is the score after the "
+        "reset, before any motion (the depth camera's first look alone); `map_oracle` reads "
+        "the ground truth.\n\n"
         f"{table(summaries)}\n\n"
         f"Command: `{meta['command']}` (commit {commit}, {meta['date']}, {meta['machine']}).\n"
     )
