@@ -43,12 +43,20 @@ from tactile_search import ENV_IDS
 from tactile_search.benchmark.statistics import Summary, summarize
 from tactile_search.seed_ranges import held_out_seeds
 
+#: Tasks scored by success against the oracle here; the map task has no success (its scores
+#: are distances: ``benchmarks.map_standings``).
+SUCCESS_TASKS = ("search", "identify")
+
 
 def standing_ids() -> list[str]:
-    """The registered ids whose task a scripted baseline other than the oracle plays (an id of
-    another task has nothing to stand against the oracle yet)."""
+    """The registered ids of a task scored by success (``SUCCESS_TASKS``) that a scripted
+    baseline other than the oracle plays (an id of another task has nothing to stand against
+    the oracle yet)."""
     return [
-        env_id for env_id in ENV_IDS if any(a != ORACLE for a in scripted_agents_for(_task(env_id)))
+        env_id
+        for env_id in ENV_IDS
+        if _task(env_id) in SUCCESS_TASKS
+        and any(a != ORACLE for a in scripted_agents_for(_task(env_id)))
     ]
 
 

@@ -130,6 +130,10 @@ def test_registry_builds_every_scripted_agent() -> None:
         "gpis_probe_planner",
         "random_identify",
         "identify_planner",
+        "random_map",
+        "variance_mapper",
+        "occupancy_mapper",
+        "map_oracle",
     }
     for name, factory in SCRIPTED_AGENTS.items():
         assert factory().name == name

@@ -1,7 +1,9 @@
 """Scripted baselines: random, the oracle (knows the target) and the GPIS probe planner
 (reads only the observation, chooses the core's probes); for the identify task random probes
 with random claims while touching and the identify planner (finds the hidden jars, judges a
-touched jar's shape and claims the square one). The oracle runs in either task."""
+touched jar's shape and claims the square one); for the map task random probes, the greedy
+mappers on the GPIS standard deviation and the occupancy grid's unknown cells, and a map
+oracle (reads the true jars). The oracle runs in the search and identify tasks."""
 
 from __future__ import annotations
 
@@ -10,6 +12,7 @@ from collections.abc import Callable
 from agents.rollout import Agent
 from agents.scripted.gpis_probe_planner import GpisProbePlanner
 from agents.scripted.identify_planner import IdentifyPlanner
+from agents.scripted.map_probe import MapOracle, OccupancyMapper, RandomMapAgent, VarianceMapper
 from agents.scripted.oracle_agent import OracleAgent
 from agents.scripted.random_agent import RandomAgent
 from agents.scripted.random_identify import RandomIdentifyAgent
@@ -20,6 +23,11 @@ SCRIPTED_AGENTS: dict[str, Callable[[], Agent]] = {
     "gpis_probe_planner": GpisProbePlanner,
     "random_identify": RandomIdentifyAgent,
     "identify_planner": IdentifyPlanner,
+    # The map task's baselines (tactile_search/MapByTouch-v0, probe action mode).
+    "random_map": RandomMapAgent,
+    "variance_mapper": VarianceMapper,
+    "occupancy_mapper": OccupancyMapper,
+    "map_oracle": MapOracle,
 }
 
 #: The name of the upper-bound baseline (it knows the target).
@@ -33,6 +41,10 @@ SCRIPTED_TASKS: dict[str, tuple[str, ...]] = {
     "gpis_probe_planner": ("search",),
     "random_identify": ("identify",),
     "identify_planner": ("identify",),
+    "random_map": ("map",),
+    "variance_mapper": ("map",),
+    "occupancy_mapper": ("map",),
+    "map_oracle": ("map",),
 }
 
 
@@ -48,8 +60,12 @@ __all__ = [
     "Agent",
     "GpisProbePlanner",
     "IdentifyPlanner",
+    "MapOracle",
+    "OccupancyMapper",
     "OracleAgent",
     "RandomAgent",
     "RandomIdentifyAgent",
+    "RandomMapAgent",
+    "VarianceMapper",
     "scripted_agents_for",
 ]
