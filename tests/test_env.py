@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
-import tactile_search  # noqa: F401  (registers the environment)
+import tactile_search  # registers the environments
 from tactile_search import CupboardSearchEnv, CupboardSearchVectorEnv
 from tactile_search.envs.config import MAP_MODES
 
@@ -20,6 +20,14 @@ MODES = list(MAP_MODES)
 @pytest.mark.parametrize("mode", MODES)
 def test_gymnasium_env_checker_passes(mode: str) -> None:
     env = gym.make(ENV_ID, map=mode)
+    check_env(env.unwrapped, skip_render_check=True)
+    env.close()
+
+
+@pytest.mark.parametrize("env_id", tactile_search.ENV_IDS)
+@pytest.mark.parametrize("action_mode", ["wrist", "probe"])
+def test_every_registered_id_passes_the_env_checker(env_id: str, action_mode: str) -> None:
+    env = gym.make(env_id, action_mode=action_mode)
     check_env(env.unwrapped, skip_render_check=True)
     env.close()
 
