@@ -142,23 +142,34 @@ def test_single_env_steps_valid_actions_and_refuses_the_rest_changing_nothing(
     env.reset(seed=seed)
     twin.reset(seed=seed)
     for action in actions:
-        kind = classify(action, (3,))
-        result, error = call(env.step, action)
-        if error is not None:
-            assert kind != VALID, (action, error)
-            assert "action" in str(error), error
+        result = single_step(env, twin, action)
+        if result is None:
             continue
-        assert kind != INVALID, f"accepted {action!r}"
-        observation, reward, terminated, truncated, info = result
-        assert env.observation_space.contains(observation)
-        assert math.isfinite(reward)
-        assert_finite_info(info)
+        _, _, terminated, truncated, info = result
         clipped = np.any(np.abs(np.asarray(action, dtype=np.float64)) > 1)
         assert info["clipped"] == clipped, (action, info["clipped"])
-        assert_same(result, twin.step(action))
         if terminated or truncated:
             env.reset(seed=seed // 2)
             twin.reset(seed=seed // 2)
+
+
+def single_step(env: Any, twin: Any, action: Any) -> tuple | None:
+    """Steps ``env`` with ``action``: refused (None) exactly when it is not a valid action of
+    the env's action shape, with an error naming the action; else finite outputs in the
+    spaces, and its twin stepped with it gives the same. The step's result, or None."""
+    kind = classify(action, env.action_space.shape)
+    result, error = call(env.step, action)
+    if error is not None:
+        assert kind != VALID, (action, error)
+        assert "action" in str(error), error
+        return None
+    assert kind != INVALID, f"accepted {action!r}"
+    observation, reward, _, _, info = result
+    assert env.observation_space.contains(observation)
+    assert math.isfinite(reward)
+    assert_finite_info(info)
+    assert_same(result, twin.step(action))
+    return result
 
 
 @settings(max_examples=examples(3))
@@ -224,18 +235,10 @@ def test_every_task_id_steps_valid_actions_and_refuses_the_rest_changing_nothing
     env.reset(seed=seed)
     twin.reset(seed=seed)
     for action in actions:
-        kind = classify(action, shape)
-        result, error = call(env.step, action)
-        if error is not None:
-            assert kind != VALID, (action, error)
-            assert "action" in str(error), error
+        result = single_step(env, twin, action)
+        if result is None:
             continue
-        assert kind != INVALID, f"accepted {action!r}"
-        observation, reward, terminated, truncated, info = result
-        assert env.observation_space.contains(observation)
-        assert math.isfinite(reward)
-        assert_finite_info(info)
-        assert_same(result, twin.step(action))
+        _, _, terminated, truncated, info = result
         if shape == (4,) and as_numbers(action)[3] > 0:
             assert terminated and info["success"] != info["wrong_claim"]
         if terminated or truncated:

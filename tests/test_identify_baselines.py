@@ -9,7 +9,6 @@ a claim replayed), and the task standings write their tables."""
 from __future__ import annotations
 
 import csv
-import dataclasses
 import json
 from pathlib import Path
 from typing import Any
@@ -34,6 +33,7 @@ from agents.scripted.identify_planner import pair_evidence, shape_verdict
 from benchmarks import task_standings
 from tactile_search import ENV_IDS, CupboardSearchEnv
 from tactile_search.envs.observation import PROPRIO
+from tests.test_scripted_agents import NoGroundTruthEnv, StaticConfigOnly
 
 IDENTIFY = "tactile_search/IdentifyByTouch-v0"
 # Validation layouts where the planner's first touch of the square jar is a corner on the
@@ -45,31 +45,6 @@ ROUND_RADII = (0.0225, 0.0275)
 
 def identify_env(cls: type[CupboardSearchEnv] = CupboardSearchEnv) -> CupboardSearchEnv:
     return cls(**gym.spec(IDENTIFY).kwargs, action_mode="probe")
-
-
-class NoGroundTruthEnv(CupboardSearchEnv):
-    """An env whose ground truth (state and oracle) cannot be read."""
-
-    def render_state(self) -> dict[str, Any]:
-        raise AssertionError("the agent read the ground truth (render_state)")
-
-    def oracle_action(self) -> np.ndarray:
-        raise AssertionError("the agent asked the oracle")
-
-
-class StaticConfigOnly:
-    """What an agent may be handed instead of the env: the settings and what the core
-    derives from them alone, from a twin env that never saw the episode."""
-
-    __slots__ = ("config", "decode_map", "decode_proprio", "geometry", "probe_motions")
-
-    def __init__(self, env: CupboardSearchEnv) -> None:
-        self.config = env.config
-        twin = CupboardSearchEnv(**dataclasses.asdict(env.config))
-        self.geometry = twin.geometry
-        self.decode_map = twin.decode_map
-        self.decode_proprio = twin.decode_proprio
-        self.probe_motions = twin.probe_motions
 
 
 def play(agent: Any, env: CupboardSearchEnv, seed: int, handed: Any = None) -> list[tuple]:

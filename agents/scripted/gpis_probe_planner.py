@@ -100,6 +100,13 @@ class GpisProbePlanner:
         self._remember_touch(self._pose(observation["proprio"]))
 
     def act(self, observation: dict) -> np.ndarray:
+        pose = self._observe(observation)
+        self._chosen = self._choose(pose)
+        return np.array(self._chosen, dtype=np.int64)
+
+    def _observe(self, observation: dict) -> Pose:
+        """Takes ``observation`` into the belief (the map, the last probe's swept path, the
+        touch) and returns the wrist's pose."""
         if self.belief is None or self.geometry is None:
             raise RuntimeError("call reset before act")
         self.belief.update(self._decode_map(observation["map"]))
@@ -109,8 +116,7 @@ class GpisProbePlanner:
         # Only the finger where it is now: the path since the last observation is swept above.
         self._last_finger = None
         self._remember_touch(pose)
-        self._chosen = self._choose(pose)
-        return np.array(self._chosen, dtype=np.int64)
+        return pose
 
     def follow(self, action: np.ndarray) -> None:
         """Takes ``action``, not the probe ``act`` just chose, as the probe the env carries

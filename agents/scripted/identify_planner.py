@@ -180,14 +180,7 @@ class IdentifyPlanner(GpisProbePlanner):
         super().reset(env, observation, info)
 
     def act(self, observation: dict) -> np.ndarray:
-        if self.belief is None or self.geometry is None:
-            raise RuntimeError("call reset before act")
-        self.belief.update(self._decode_map(observation["map"]))
-        pose = self._pose(observation["proprio"])
-        if self._chosen is not None:
-            self._sweep_probe_path(self._chosen, pose)
-        self._last_finger = None
-        self._remember_touch(pose)
+        pose = self._observe(observation)
         jar = self._record(pose)
         time_left = float(observation["proprio"][PROPRIO["time_left"]])
         if jar is not None and jar.candidate:
