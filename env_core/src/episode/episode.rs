@@ -199,6 +199,7 @@ impl Episode {
         let (mut info, _) = self.measure();
         info.iou = self.current_iou();
         self.target_distance = self.distance_to_target();
+        self.show_distance(&mut info);
         self.score_sum = 0.0;
         self.score_step(&mut info);
         self.last_info = info;
@@ -246,7 +247,8 @@ impl Episode {
         self.grid.contains(tip).then_some(tip)
     }
 
-    /// Metrics of the current state; also returns the displacement added since last call.
+    /// Metrics of the current state (the target distance aside: `show_distance`); also
+    /// returns the displacement added since last call.
     fn measure(&mut self) -> (StepInfo, f64) {
         let jars = self.scene().jar_states();
         let mut info = StepInfo {
@@ -266,9 +268,6 @@ impl Episode {
         let target = self.scene().target();
         info.success = self.config.task.touch_succeeds()
             && self.scene().true_contacts().iter().any(|c| c.jar == target);
-        if self.config.task.reveals_target() {
-            info.target_distance = self.distance_to_target();
-        }
         info.gpis_rows = self.map.rows();
         // `info.iou` is the step's, filled in once its last motion is made (`current_iou`).
         (info, added)
@@ -290,6 +289,14 @@ impl Episode {
         let finger = self.scene().finger_pose();
         let length = self.config.scene.hand.finger_length;
         fingertip(finger.x, finger.y, finger.yaw, length)
+    }
+
+    /// Puts the target distance of the last step into `info`, where the task reveals the
+    /// target (it stays 0 elsewhere).
+    fn show_distance(&self, info: &mut StepInfo) {
+        if self.config.task.reveals_target() {
+            info.target_distance = self.target_distance;
+        }
     }
 
     /// The fingertip's path distance to the target now, m.
@@ -482,6 +489,7 @@ impl Episode {
         let weights = &self.config.reward;
         info.reward_approach = weights.approach * (self.target_distance - distance);
         self.target_distance = distance;
+        self.show_distance(&mut info);
         info.reward_success = if info.success { weights.success } else { 0.0 };
         info.reward_step = -weights.step_cost;
         info.reward_displacement = -weights.displacement * added_displacement;
