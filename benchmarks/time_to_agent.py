@@ -1,0 +1,184 @@
+"""Where the time to a trained agent goes: one training seed of a recipe, stage by stage.
+
+Runs ``agents.train``'s path (``train_with_clone_stage``: the clone stage, then PPO's
+fine-tuning) for one seed of a map's recipe and times each stage as it runs:
+
+- the teacher's demonstrations and each DAgger round's rollouts, each split into the time
+  in the teacher (its ``act`` and ``follow``), in the student's policy, and the rest
+  (the environment and the bookkeeping);
+- each cloning pass (behaviour cloning, then one per DAgger round);
+- PPO's fine-tuning;
+- the rest (building the model, mirror images, agreement, saving).
+
+It prints each stage's wall-clock and share of the total, and writes them as JSON beside
+the run (``--out``). ``--scale`` shrinks the recipe's episodes and PPO budget by a factor,
+for a quick look; the published figures are at ``--scale 1``::
+
+    python -m benchmarks.time_to_agent --map gpis --seed 0 --out /tmp/time_to_agent
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import dataclasses
+import json
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+from agents.sb3.recipes import load_hyperparams
+
+#: The stages' rows, in the order a run meets them.
+TEACHER, STUDENT = "teacher", "student policy"
+
+
+@dataclasses.dataclass
+class StageClock:
+    """Wall-clock seconds by stage, in the order the stages first ran."""
+
+    seconds: dict[str, float] = dataclasses.field(default_factory=dict)
+
+    def add(self, stage: str, seconds: float) -> None:
+        self.seconds[stage] = self.seconds.get(stage, 0.0) + seconds
+
+    @contextlib.contextmanager
+    def timing(self, stage: str) -> Iterator[None]:
+        started = time.perf_counter()
+        try:
+            yield
+        finally:
+            self.add(stage, time.perf_counter() - started)
+
+    def timed(self, stage: Callable[[], str], function: Callable[..., Any]) -> Callable[..., Any]:
+        """``function`` with each call's time added to the stage ``stage()`` names then."""
+
+        def wrapper(*args: Any, **kwargs: Any) -> Any:
+            with self.timing(stage()):
+                return function(*args, **kwargs)
+
+        return wrapper
+
+
+def instrument(clock: StageClock) -> contextlib.ExitStack:
+    """Wraps the recipe's stages (the functions ``agents.imitation`` and the PPO stage call)
+    with ``clock``'s timers; closing the stack puts the originals back."""
+    from agents.imitation import clone_stage, demonstrations, training
+
+    stack = contextlib.ExitStack()
+    rounds = {"record": 0, "clone": 0}
+    current = {"rollouts": "demonstrations"}
+    teacher_class = type(demonstrations.make_teacher(training.PLANNER))
+
+    def patch(owner: Any, name: str, replacement: Any) -> None:
+        original = getattr(owner, name)
+        setattr(owner, name, replacement)
+        stack.callback(setattr, owner, name, original)
+
+    def recording(*args: Any, **kwargs: Any) -> Any:
+        index = rounds["record"]
+        rounds["record"] += 1
+        current["rollouts"] = "demonstrations" if index == 0 else f"DAgger round {index}"
+        # The teacher's and the student's time inside are rows of their own.
+        inside = [f"{current['rollouts']} ({part})" for part in (TEACHER, STUDENT)]
+        before = sum(clock.seconds.get(row, 0.0) for row in inside)
+        with clock.timing(f"{current['rollouts']} (env and rest)"):
+            result = original_record(*args, **kwargs)
+        spent = sum(clock.seconds.get(row, 0.0) for row in inside) - before
+        clock.add(f"{current['rollouts']} (env and rest)", -spent)
+        return result
+
+    def cloning_stage() -> str:
+        index = rounds["clone"]
+        rounds["clone"] += 1
+        return "behaviour cloning" if index == 0 else f"DAgger round {index} (cloning)"
+
+    def sampling_student(model: Any) -> Any:
+        start = original_student(model)
+
+        def timed_start(layout_seed: int) -> Any:
+            return clock.timed(lambda: f"{current['rollouts']} ({STUDENT})", start(layout_seed))
+
+        return timed_start
+
+    original_record = training.record
+    original_student = training._sampling_student
+    patch(training, "record", recording)
+    patch(training, "clone", clock.timed(cloning_stage, training.clone))
+    patch(training, "_sampling_student", sampling_student)
+    patch(clone_stage, "train", clock.timed(lambda: "PPO fine-tuning", clone_stage.train))
+    for method in ("act", "follow"):
+        timed = clock.timed(
+            lambda: f"{current['rollouts']} ({TEACHER})", getattr(teacher_class, method)
+        )
+        patch(teacher_class, method, timed)
+    return stack
+
+
+def scaled_overrides(recipe: dict[str, Any], scale: float) -> tuple[dict[str, Any], int]:
+    """The imitation overrides and PPO timesteps of ``recipe`` shrunk by ``scale``."""
+    section = recipe["imitation"]
+    overrides = {
+        "demo_episodes": max(20, round(section["demo_episodes"] * scale)),
+        "dagger_episodes": max(10, round(section["dagger_episodes"] * scale)),
+    }
+    return overrides, max(
+        recipe["n_envs"] * recipe["n_steps"], round(recipe["n_timesteps"] * scale)
+    )
+
+
+def table(seconds: dict[str, float], total: float) -> str:
+    rows = [
+        *seconds.items(),
+        ("other (model, mirror, agreement, saving)", total - sum(seconds.values())),
+    ]
+    width = max(len(name) for name, _ in rows)
+    lines = [f"{'stage':<{width}}  {'seconds':>9}  {'share':>6}"]
+    lines += [f"{name:<{width}}  {value:9.1f}  {100 * value / total:5.1f}%" for name, value in rows]
+    lines.append(f"{'total':<{width}}  {total:9.1f}  100.0%")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> None:
+    from agents.imitation.clone_stage import train_with_clone_stage
+    from agents.sb3.training import TrainSettings
+
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--map", default="gpis", dest="map_mode")
+    parser.add_argument("--algo", default="ppo")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--scale", type=float, default=1.0, help="share of the recipe to run")
+    parser.add_argument("--out", type=Path, default=Path("runs/time_to_agent"))
+    args = parser.parse_args(argv)
+    if not 0.0 < args.scale <= 1.0:
+        parser.error(f"--scale must be in (0, 1], got {args.scale}")
+    recipe = load_hyperparams(args.algo, args.map_mode)
+    overrides, timesteps = scaled_overrides(recipe, args.scale)
+    settings = TrainSettings(
+        args.algo,
+        args.map_mode,
+        out=args.out,
+        seed=args.seed,
+        timesteps=timesteps,
+        progress_bar=False,
+    )
+    if settings.run_dir.exists():
+        parser.error(f"{settings.run_dir} exists: give another --out (the profile starts afresh)")
+    clock = StageClock()
+    started = time.perf_counter()
+    with instrument(clock):
+        run_dir = train_with_clone_stage(settings, overrides)
+    total = time.perf_counter() - started
+    print(
+        f"{args.algo} {args.map_mode} seed {args.seed}, scale {args.scale}: {overrides}, "
+        f"{timesteps} PPO probes"
+    )
+    print(table(clock.seconds, total))
+    (run_dir / "time_to_agent.json").write_text(
+        json.dumps({"scale": args.scale, "total": total, "stages": clock.seconds}, indent=2)
+    )
+
+
+if __name__ == "__main__":
+    main()
