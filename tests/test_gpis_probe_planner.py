@@ -1,13 +1,14 @@
 """The GPIS planner on the agents' action interface (``action_mode="probe"``): its actions
 are probes of the core's grid, it finds targets without ground truth, it reads only the
-observation and the static configuration, and its belief learns the path of each probe."""
+observation and the static configuration, and (in the Python reference, whose belief is
+open to look at) its belief learns the path of each probe."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from agents.scripted import GpisProbePlanner
+from agents.scripted import BeliefProbePlanner, GpisProbePlanner
 from tactile_search import CupboardSearchEnv
 from tests.test_scripted_agents import NoGroundTruthEnv, StaticConfigOnly
 
@@ -55,7 +56,7 @@ def test_a_probe_that_touches_nothing_is_swept_along_its_lane_and_turn() -> None
     """After a probe that touched nothing, the belief holds the finger's path: every cell the
     straight finger passed along the lane, and the arc of its turn."""
     env = CupboardSearchEnv(action_mode="probe")
-    planner = GpisProbePlanner()
+    planner = BeliefProbePlanner()
     observation, info = env.reset(seed=0)
     planner.reset(env, observation, info)
     g = planner.geometry

@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from agents.rollout import Agent
+from agents.scripted.belief_planner import BeliefProbePlanner
 from agents.scripted.gpis_probe_planner import GpisProbePlanner
 from agents.scripted.identify_planner import IdentifyPlanner
 from agents.scripted.map_probe import MapOracle, OccupancyMapper, RandomMapAgent, VarianceMapper
@@ -58,6 +59,7 @@ __all__ = [
     "SCRIPTED_AGENTS",
     "SCRIPTED_TASKS",
     "Agent",
+    "BeliefProbePlanner",
     "GpisProbePlanner",
     "IdentifyPlanner",
     "MapOracle",

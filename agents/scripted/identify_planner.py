@@ -4,7 +4,7 @@ the contacts it collects on it, and claims the square one.
 
 Strategy. Every jar the camera sees is round (the target, the only square jar, hides behind
 others, as does one round decoy), so only hidden jars are worth a look. The planner searches
-as ``GpisProbePlanner`` does (probes over the hiding weight of its belief). When a probe ends
+as ``BeliefProbePlanner`` does (probes over the hiding weight of its belief). When a probe ends
 touching a jar whose estimated centre (the contact point less the mean round radius along
 its normal) lies where a hidden jar may stand (deep enough and in the camera's shadow), the
 jar becomes a *candidate*, and its contact points and outward normals (decoded from the
@@ -49,7 +49,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from agents.scripted.gpis_probe_planner import GpisProbePlanner, Pose, Probe, _forward
+from agents.scripted.belief_planner import BeliefProbePlanner, Pose, Probe, _forward
 from tactile_search import CupboardSearchEnv
 from tactile_search.envs.observation import PROPRIO
 
@@ -163,7 +163,7 @@ def shape_verdict(
     return "unknown"
 
 
-class IdentifyPlanner(GpisProbePlanner):
+class IdentifyPlanner(BeliefProbePlanner):
     """The identify task's planner; see the module docstring."""
 
     name = "identify_planner"
@@ -193,7 +193,7 @@ class IdentifyPlanner(GpisProbePlanner):
     # -- the touched jars -------------------------------------------------------------
 
     def _pose(self, proprio: np.ndarray) -> Pose:
-        """As ``GpisProbePlanner._pose``, but a contact whose offset the observation clipped
+        """As ``BeliefProbePlanner._pose``, but a contact whose offset the observation clipped
         is put back on the finger's side that touches (half its thickness from its centre
         line, against the jar's normal), solved from the unclipped component. Where that
         component says little of the distance along the finger (the finger nearly across
@@ -314,7 +314,7 @@ class IdentifyPlanner(GpisProbePlanner):
         self, pose: Pose, jar: JarTrack
     ) -> list[tuple[tuple[int, int, int], Probe, float]]:
         """The grid probes the wrist and arm can make from ``pose`` clear of every cell that may
-        hold a jar (``GpisProbePlanner._candidates``), the finger allowed into the jar being
+        hold a jar (``BeliefProbePlanner._candidates``), the finger allowed into the jar being
         inspected (it stops at the touch): its indices, the probe and its motions."""
         g, belief = self.geometry, self.belief
         near = np.hypot(belief.xs - jar.centre[0], belief.ys - jar.centre[1])

@@ -1,7 +1,7 @@
 """Scripted baselines for the map task (``tactile_search/MapByTouch-v0``) in the probe action
 mode: random probes, greedy mappers on the observed map, and the map oracle.
 
-The mappers share the GPIS probe planner's machinery (``GpisProbePlanner``): its belief of
+The mappers share the GPIS probe planner's machinery (``BeliefProbePlanner``): its belief of
 the finger's swept cells and touched jars, and its candidate probes, those of the core's
 grid the wrist and arm can make without coming near a cell that may hold a jar
 (``agents.scripted.clearance``). What differs is the weight a probe is chosen by: the sum of
@@ -28,8 +28,8 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from agents.scripted.belief_planner import BeliefProbePlanner, Pose, Probe
 from agents.scripted.geometry import Geometry
-from agents.scripted.gpis_probe_planner import GpisProbePlanner, Pose, Probe
 from agents.scripted.search_map import SearchMap
 from tactile_search import CupboardSearchEnv
 
@@ -72,7 +72,7 @@ class RandomMapAgent:
         return self._rng.integers(0, self._sizes).astype(np.int64)
 
 
-class GreedyMapper(GpisProbePlanner):
+class GreedyMapper(BeliefProbePlanner):
     """The probe planner's belief and candidates, choosing the probe with the most
     ``cell_weight`` along its finger's path; see the module docstring. Subclasses give
     ``cell_weight`` and the map mode."""

@@ -8,6 +8,8 @@
 //!   the scene and episode configs declare once and everything else reads.
 //! - [`episode`]: mechanical-search episodes (map from depth and touch, reward, episode end)
 //!   and a batch of them stepped in parallel.
+//! - [`planner`]: scripted teachers that read only the observation (the GPIS probe
+//!   planner), run over a batch on every core.
 //! - [`allocator`]: the global allocator (mimalloc, its options, and a count of the bytes
 //!   the core holds).
 //!
@@ -17,6 +19,7 @@
 pub mod allocator;
 pub mod episode;
 pub mod gpis;
+pub mod planner;
 pub mod scene;
 pub mod settings;
 

@@ -585,6 +585,19 @@ Bounds = tuple[tuple[float, float], tuple[float, float]]
 # A jars dict as ``Scene.jars`` returns it: shapes, positions (J, 2|3), half_widths, yaws.
 Jars = dict[str, Any]
 
+class ProbePlanner:
+    """The GPIS probe planner of ``num_envs`` episodes of ``config`` (map ``gpis``, action
+    mode ``probe``): it reads the observations and the settings, nothing else."""
+
+    def __init__(self, config: EpisodeConfig, num_envs: int) -> None: ...
+    def __len__(self) -> int: ...
+    def reset(self, index: int, map: NDArray[np.uint8], proprio: NDArray[np.float32]) -> None:
+        """Starts episode ``index`` from its first observation."""
+    def act(self, maps: NDArray[np.uint8], proprio: NDArray[np.float32]) -> NDArray[np.int64]:
+        """Every episode's next probe ``(n, 3)`` for its observation (rows in parallel)."""
+    def follow(self, index: int, action: Any) -> None:
+        """Episode ``index``'s env carries out ``action`` instead of the chosen probe."""
+
 class Observations:
     """GP observations in the order they enter a map (from ``depth_prior``)."""
 

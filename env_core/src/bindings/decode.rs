@@ -21,7 +21,7 @@ use crate::settings::Choice;
 
 /// `value` as a numpy array of dtype `T`: `TypeError` naming `expected`, and what came
 /// (its type and dtype), for anything else.
-fn typed_array<'a, 'py, T: Element>(
+pub(super) fn typed_array<'a, 'py, T: Element>(
     what: &str,
     value: &'a Bound<'py, PyAny>,
     expected: &str,
@@ -41,7 +41,7 @@ fn typed_array<'a, 'py, T: Element>(
 /// The values of `value`, a numpy array of dtype `T` (named `dtype`) and exactly `shape`,
 /// in row-major order: `TypeError` for anything else (naming its type and dtype),
 /// `ValueError` for another shape.
-fn exact_array<T: Element + Copy>(
+pub(super) fn exact_array<T: Element + Copy>(
     what: &str,
     value: &Bound<'_, PyAny>,
     dtype: &str,

@@ -11,7 +11,7 @@
 //! - [`geometry`], [`prior`]: the core's geometry, metrics and depth prior as functions,
 //!   so experiments run what the environment runs.
 //! - one file per class: [`gpis`] (`GpisCore`), [`scene`] (`Scene`), [`episode`]
-//!   (`EpisodeBatch`).
+//!   (`EpisodeBatch`), [`planner`] (`ProbePlanner`).
 
 mod actions;
 mod arrays;
@@ -25,6 +25,7 @@ mod exclusive;
 mod geometry;
 mod gpis;
 mod observation;
+mod planner;
 mod prior;
 mod registry;
 mod scene;
@@ -50,6 +51,7 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scene::PyScene>()?;
     m.add_class::<episode_config::PyEpisodeConfig>()?;
     m.add_class::<episode::PyEpisodeBatch>()?;
+    m.add_class::<planner::PyProbePlanner>()?;
     geometry::register(m)?;
     prior::register(m)?;
     m.add_function(wrap_pyfunction!(observation::observation_layout, m)?)?;

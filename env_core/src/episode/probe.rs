@@ -236,13 +236,33 @@ impl ProbeController {
     /// nothing touches or blocks the hand: [`ProbeController::next_motion`] stepped on the
     /// kinematic pose (each motion moved in full), as [`crate::episode::Episode`] steps it.
     /// The cost a planner choosing probes weighs, from the controller itself. Cost O(motions).
-    pub fn motions(&self, mut pose: HandPose, probe: &Probe) -> usize {
+    pub fn motions(&self, pose: HandPose, probe: &Probe) -> usize {
+        self.motions_until(pose, probe, |phase| phase == Phase::Done)
+            .0
+    }
+
+    /// The motions to reach `probe`'s lane and depth from `pose` (those before its sweep,
+    /// which do not depend on the sweep) and the pose they end in, stepped as
+    /// [`ProbeController::motions`] steps them: so `motions(pose, probe)` is the count plus
+    /// `motions(end, probe)` for every sweep of that lane and depth.
+    pub fn approach(&self, pose: HandPose, probe: &Probe) -> (usize, HandPose) {
+        self.motions_until(pose, probe, |phase| {
+            matches!(phase, Phase::Sweep | Phase::Done)
+        })
+    }
+
+    fn motions_until(
+        &self,
+        mut pose: HandPose,
+        probe: &Probe,
+        stop: impl Fn(Phase) -> bool,
+    ) -> (usize, HandPose) {
         let mut count = 0;
         loop {
             let (phase, [dx, dy, dyaw]) = self.next_motion(pose, probe);
             // Each phase converges in a bounded number of motions; this bound is a bug's.
-            if phase == Phase::Done || count >= MAX_PROBE_MOTIONS {
-                return count;
+            if stop(phase) || count >= MAX_PROBE_MOTIONS {
+                return (count, pose);
             }
             pose.x += dx * self.max_step;
             pose.y += dy * self.max_step;

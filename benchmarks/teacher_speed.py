@@ -1,0 +1,120 @@
+"""The teacher's speed beside the environment's: probes per second of the GPIS probe planner
+(the core's, and the Python reference it replaced) against random probes, side by side in
+one run on the same training-range layouts and settings.
+
+Rows, each over whole episodes (resets included):
+
+- ``random probes``: one env, one thread, random probes (the environment's own rate);
+- ``core planner``: the same env with the core's planner choosing every probe;
+- ``python planner``: the Python reference (``agents.scripted.belief_planner``), on fewer
+  episodes (it is slow);
+- ``vector random`` and ``vector core planner``: a vector env of ``--num-envs`` episodes on
+  every core, random probes or the core's planner over the whole batch
+  (``ProbePlanner(config, n)``: one planner per episode, acting in parallel).
+
+It prints probes/s per row and the planner's rate as a share of the random rate beside it::
+
+    python -m benchmarks.teacher_speed --episodes 200 --num-envs 16
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from agents.scripted import BeliefProbePlanner, GpisProbePlanner
+from benchmarks.arguments import positive_int
+from tactile_search import CupboardSearchEnv, CupboardSearchVectorEnv, _core
+
+SETTINGS = GpisProbePlanner.env_kwargs
+#: Layouts of the training range (the teacher labels training layouts).
+FIRST_LAYOUT = 2**32 + 7
+
+
+def single_env(episodes: int, choose: Callable[[Any], Any] | None) -> tuple[float, int]:
+    """Seconds and probes over ``episodes`` episodes of one env on one thread: random
+    probes, or those of a planner ``choose()`` makes (``reset``/``act``)."""
+    env = CupboardSearchEnv(threads=1, **SETTINGS)
+    rng = np.random.default_rng(0)
+    probes = 0
+    started = time.perf_counter()
+    for k in range(episodes):
+        observation, info = env.reset(seed=FIRST_LAYOUT + k)
+        planner = choose() if choose is not None else None
+        if planner is not None:
+            planner.reset(env, observation, info)
+        done = False
+        while not done:
+            if planner is not None:
+                action = planner.act(observation)
+            else:
+                action = rng.integers(env.action_space.nvec)
+            observation, _, terminated, truncated, _ = env.step(action)
+            probes += 1
+            done = terminated or truncated
+    return time.perf_counter() - started, probes
+
+
+def vector_env(num_envs: int, probes: int, planner: bool) -> tuple[float, int]:
+    """Seconds and probes over at least ``probes`` probes of a vector env of ``num_envs``
+    episodes on every core, with random probes or the core's planner over the batch."""
+    env = CupboardSearchVectorEnv(num_envs=num_envs, autoreset_mode="same_step", **SETTINGS)
+    rng = np.random.default_rng(0)
+    started = time.perf_counter()
+    observation, _ = env.reset(seed=FIRST_LAYOUT)
+    teacher = _core.ProbePlanner(env.config.core, num_envs) if planner else None
+    if teacher is not None:
+        for i in range(num_envs):
+            teacher.reset(i, observation["map"][i], observation["proprio"][i])
+    done_probes = 0
+    while done_probes < probes:
+        if teacher is not None:
+            actions = teacher.act(observation["map"], observation["proprio"])
+        else:
+            actions = rng.integers(env.single_action_space.nvec, size=(num_envs, 3))
+        observation, _, terminated, truncated, _ = env.step(actions)
+        done_probes += num_envs
+        if teacher is not None:
+            for i in np.flatnonzero(terminated | truncated):
+                teacher.reset(int(i), observation["map"][i], observation["proprio"][i])
+    seconds = time.perf_counter() - started
+    env.close()
+    return seconds, done_probes
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--episodes", type=positive_int, default=200)
+    parser.add_argument("--python-episodes", type=positive_int, default=20)
+    parser.add_argument("--num-envs", type=positive_int, default=16)
+    parser.add_argument("--vector-probes", type=positive_int, default=4000)
+    args = parser.parse_args(argv)
+    rows = {
+        "random probes, one env": single_env(args.episodes, None),
+        "core planner, one env": single_env(args.episodes, GpisProbePlanner),
+        "python planner, one env": single_env(args.python_episodes, BeliefProbePlanner),
+        f"vector random, {args.num_envs} envs": vector_env(
+            args.num_envs, args.vector_probes, planner=False
+        ),
+        f"vector core planner, {args.num_envs} envs": vector_env(
+            args.num_envs, args.vector_probes, planner=True
+        ),
+    }
+    rates = {name: probes / seconds for name, (seconds, probes) in rows.items()}
+    base = {
+        "core planner, one env": "random probes, one env",
+        "python planner, one env": "random probes, one env",
+        f"vector core planner, {args.num_envs} envs": f"vector random, {args.num_envs} envs",
+    }
+    print(f"{'':40} {'probes':>7} {'seconds':>8} {'probes/s':>9}  share of random")
+    for name, (seconds, probes) in rows.items():
+        share = f"{100 * rates[name] / rates[base[name]]:6.1f} %" if name in base else ""
+        print(f"{name:40} {probes:7d} {seconds:8.2f} {rates[name]:9.1f}  {share}")
+
+
+if __name__ == "__main__":
+    main()

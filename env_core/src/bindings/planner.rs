@@ -1,0 +1,169 @@
+//! `ProbePlanner`: the core's GPIS probe planner ([`crate::planner`]) over a batch of
+//! episodes, one planner per episode, acting on every core with the GIL released.
+
+use numpy::{Element, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+
+use super::decode::{exact_array, typed_array};
+use super::episode_config::PyEpisodeConfig;
+use super::errors::{episode_index_error, wrong_shape, wrong_type, wrong_value};
+use super::exclusive::Exclusive;
+use crate::episode::{EpisodeConfig, PROPRIO_LEN};
+use crate::planner::{act_batch, PlannerError, PlannerObservation, ProbePlanner};
+use crate::settings::Checked;
+
+impl From<PlannerError> for PyErr {
+    fn from(error: PlannerError) -> Self {
+        match error {
+            PlannerError::Episode(episode) => episode.into(),
+            // Every other planner error is a bad value (settings, image, call order), and
+            // its message says what was expected and what came.
+            other => pyo3::exceptions::PyValueError::new_err(other.to_string()),
+        }
+    }
+}
+
+/// The GPIS probe planner of `num_envs` episodes of `config` (the GPIS map, the `probe`
+/// action mode): per episode, `reset` with its first observation, then `act` on the
+/// observations after each probe (and `follow` when the env carries out another probe
+/// than the one chosen). It reads the observations and the settings, nothing else.
+#[pyclass(name = "ProbePlanner", module = "tactile_search._core", frozen)]
+pub struct PyProbePlanner {
+    config: Checked<EpisodeConfig>,
+    planners: Exclusive<Vec<ProbePlanner>>,
+}
+
+impl PyProbePlanner {
+    fn map_shape(&self) -> [usize; 3] {
+        let channels = self.config.map.mode.kind().channels.len();
+        let (h, w) = self.config.map.grid_shape;
+        [channels, h, w]
+    }
+}
+
+/// The rows of `value`, an array of dtype `T` and shape `(n, *row)`: `n` and the values in
+/// row-major order.
+fn rows_of<T: Element + Copy>(
+    what: &str,
+    value: &Bound<'_, PyAny>,
+    dtype: &str,
+    row: &[usize],
+) -> PyResult<(usize, Vec<T>)> {
+    let dims: Vec<String> = row.iter().map(usize::to_string).collect();
+    let shape_wanted = format!("(n, {})", dims.join(", "));
+    let expected = format!("a {dtype} numpy array of shape {shape_wanted}");
+    let array = typed_array::<T>(what, value, &expected)?;
+    let shape = array.shape();
+    if shape.len() != row.len() + 1 || shape[1..] != *row {
+        return Err(wrong_shape(what, &shape_wanted, shape));
+    }
+    let n = shape[0];
+    let readonly = array.try_readonly().map_err(|e| {
+        wrong_value(
+            what,
+            "an array that is not being written elsewhere",
+            e.to_string(),
+        )
+    })?;
+    Ok((n, readonly.as_array().iter().copied().collect()))
+}
+
+#[pymethods]
+impl PyProbePlanner {
+    #[new]
+    fn new(config: &Bound<'_, PyAny>, num_envs: usize) -> PyResult<Self> {
+        let config = config
+            .cast::<PyEpisodeConfig>()
+            .map_err(|_| wrong_type("config", "an EpisodeConfig", config))?
+            .get()
+            .checked
+            .clone();
+        if num_envs == 0 {
+            return Err(wrong_value("num_envs", "at least 1", num_envs));
+        }
+        let planner = ProbePlanner::new(&config)?;
+        Ok(Self {
+            config,
+            planners: Exclusive::new("ProbePlanner", vec![planner; num_envs]),
+        })
+    }
+
+    /// How many episodes it plans for.
+    fn __len__(&self) -> PyResult<usize> {
+        Ok(self.planners.lock()?.len())
+    }
+
+    /// Starts episode `index` from its first observation: `map` `(C, H, W)` uint8 and
+    /// `proprio` `(11,)` float32.
+    fn reset(
+        &self,
+        py: Python<'_>,
+        index: usize,
+        map: &Bound<'_, PyAny>,
+        proprio: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
+        let map: Vec<u8> = exact_array("map", map, "uint8", &self.map_shape())?;
+        let proprio: Vec<f32> = exact_array("proprio", proprio, "float32", &[PROPRIO_LEN])?;
+        let proprio: [f32; PROPRIO_LEN] = proprio.try_into().expect("checked length");
+        let mut planners = self.planners.lock()?;
+        let len = planners.len();
+        let planner = planners
+            .get_mut(index)
+            .ok_or_else(|| episode_index_error(index, len))?;
+        py.detach(|| {
+            planner.reset(PlannerObservation {
+                map: &map,
+                proprio: &proprio,
+            })
+        })?;
+        Ok(())
+    }
+
+    /// Every episode's next probe for its observation after the last probe: `maps`
+    /// `(n, C, H, W)` uint8 and `proprio` `(n, 11)` float32, one row per episode; an
+    /// `(n, 3)` int64 array of (lane, depth, sweep). The planners run in parallel.
+    fn act<'py>(
+        &self,
+        py: Python<'py>,
+        maps: &Bound<'py, PyAny>,
+        proprio: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        let [c, h, w] = self.map_shape();
+        let (n, maps) = rows_of::<u8>("maps", maps, "uint8", &[c, h, w])?;
+        let (m, proprio) = rows_of::<f32>("proprio", proprio, "float32", &[PROPRIO_LEN])?;
+        let mut planners = self.planners.lock()?;
+        if n != planners.len() || m != planners.len() {
+            return Err(wrong_value(
+                "maps and proprio",
+                &format!("one row per episode ({})", planners.len()),
+                format!("{n} maps and {m} proprio rows"),
+            ));
+        }
+        let observations: Vec<PlannerObservation<'_>> = maps
+            .chunks_exact(c * h * w)
+            .zip(proprio.chunks_exact(PROPRIO_LEN))
+            .map(|(map, row)| PlannerObservation {
+                map,
+                proprio: row.try_into().expect("rows of PROPRIO_LEN"),
+            })
+            .collect();
+        let batch: &mut [ProbePlanner] = &mut planners;
+        let probes = py.detach(|| act_batch(batch, &observations))?;
+        Ok(PyArray2::from_vec2(
+            py,
+            &probes.iter().map(|p| p.to_vec()).collect::<Vec<_>>(),
+        )?)
+    }
+
+    /// Tells episode `index`'s planner that the env carries out `action` (lane, depth,
+    /// sweep), not the probe it chose: its belief then learns from that probe.
+    fn follow(&self, index: usize, action: [i64; 3]) -> PyResult<()> {
+        let mut planners = self.planners.lock()?;
+        let len = planners.len();
+        let planner = planners
+            .get_mut(index)
+            .ok_or_else(|| episode_index_error(index, len))?;
+        planner.follow(action)?;
+        Ok(())
+    }
+}

@@ -1,0 +1,40 @@
+//! Why a planner cannot act.
+
+use thiserror::Error;
+
+use crate::episode::maps::DecodeError;
+use crate::episode::EpisodeError;
+
+/// Why a planner cannot act.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum PlannerError {
+    /// The planner reads the GPIS map.
+    #[error("the GPIS probe planner needs map='gpis', got map='{0}'")]
+    NeedsGpisMap(&'static str),
+    /// The planner chooses probes.
+    #[error("the GPIS probe planner needs action_mode='probe', got action_mode='{0}'")]
+    NeedsProbeActions(&'static str),
+    /// `act` or `follow` before the episode's first observation.
+    #[error("the planner has no episode: reset it with the episode's first observation")]
+    NotReset,
+    /// An observation's map image is not of the planner's configuration.
+    #[error("the map image has {got}, expected {expected}")]
+    Image {
+        /// What the configuration's map image holds.
+        expected: String,
+        /// What came.
+        got: String,
+    },
+    /// A configuration or action the episode refuses.
+    #[error(transparent)]
+    Episode(#[from] EpisodeError),
+}
+
+impl From<DecodeError> for PlannerError {
+    fn from(error: DecodeError) -> Self {
+        Self::Image {
+            expected: error.expected,
+            got: error.got,
+        }
+    }
+}

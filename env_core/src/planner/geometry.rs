@@ -1,0 +1,92 @@
+//! The static geometry the probe planner knows: the episode configuration's
+//! [`StaticGeometry`] (no ground truth of an episode) with the map's cell centres and the
+//! largest sweep angle, under the names the planner's rules use.
+
+use crate::episode::{EpisodeConfig, EpisodeError, ProbeController, StaticGeometry};
+
+/// Static sizes in metres (and radians); see [`StaticGeometry`] for each.
+#[derive(Debug, Clone)]
+pub struct PlannerGeometry {
+    pub width: f64,
+    pub depth: f64,
+    pub wrist_half_extent: f64,
+    pub arm_length: f64,
+    pub arm_half_width: f64,
+    pub finger_length: f64,
+    pub joint_offset: f64,
+    pub reach: f64,
+    pub jar_radius: [f64; 2],
+    pub target_min_depth: f64,
+    pub wall_gap: f64,
+    /// (H, W) of the map grid.
+    pub grid_shape: (usize, usize),
+    /// Side of a (square) map cell.
+    pub cell: f64,
+    /// The cells' centres, H·W row-major (row i along y, column j along x).
+    pub xs: Vec<f64>,
+    pub ys: Vec<f64>,
+    /// The `probe` action mode's probes per action index: the wrist's x per lane, y per
+    /// depth and yaw at the end of each sweep (a turn towards +x is a negative yaw).
+    pub probe_lanes: Vec<f64>,
+    pub probe_depths: Vec<f64>,
+    pub probe_yaws: Vec<f64>,
+    /// The probe controller's turn per motion while sweeping, rad.
+    pub probe_sweep_rate: f64,
+    /// The largest sweep angle either way, rad.
+    pub probe_max_angle: f64,
+    /// The controller itself, which counts a probe's motions.
+    pub controller: ProbeController,
+    /// Per cell, the bearing of its centre from the camera (atan2 of x over y offsets) and
+    /// its range, for the camera's shadows.
+    pub camera_bearings: Vec<f64>,
+    pub camera_ranges: Vec<f64>,
+}
+
+impl PlannerGeometry {
+    /// The geometry of `config` (fails only on a config whose map grid does not build).
+    pub fn of(config: &EpisodeConfig) -> Result<Self, EpisodeError> {
+        let g = StaticGeometry::of(config)?;
+        let (xs, ys) = g.cell_centres();
+        let [cx, cy] = g.camera;
+        let camera_bearings = xs
+            .iter()
+            .zip(&ys)
+            .map(|(x, y)| (x - cx).atan2(y - cy))
+            .collect();
+        let camera_ranges = xs
+            .iter()
+            .zip(&ys)
+            .map(|(x, y)| (x - cx).hypot(y - cy))
+            .collect();
+        Ok(Self {
+            width: g.width,
+            depth: g.depth,
+            wrist_half_extent: g.wrist_half_extent,
+            arm_length: g.arm_length,
+            arm_half_width: g.arm_half_width,
+            finger_length: g.finger_length,
+            joint_offset: g.joint_offset,
+            reach: g.reach,
+            jar_radius: g.jar_radius,
+            target_min_depth: g.target_min_depth,
+            wall_gap: g.wall_gap,
+            grid_shape: g.grid.shape(),
+            cell: g.cell,
+            xs,
+            ys,
+            probe_lanes: g.probes.lanes,
+            probe_depths: g.probes.depths,
+            probe_yaws: g.probes.yaws,
+            probe_sweep_rate: g.probes.sweep_rate,
+            probe_max_angle: config.probe.max_angle,
+            controller: ProbeController::for_episode(config),
+            camera_bearings,
+            camera_ranges,
+        })
+    }
+
+    /// The finger's direction at `yaw` (0 points along +y).
+    pub fn forward(yaw: f64) -> [f64; 2] {
+        [-yaw.sin(), yaw.cos()]
+    }
+}

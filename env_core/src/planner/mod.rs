@@ -1,0 +1,25 @@
+//! Scripted teachers that read only the observation: what a recipe's agent clones, run
+//! where they are cheap (here, beside the probe controller) instead of in Python.
+//!
+//! - [`probe_planner`]: the GPIS probe planner ([`ProbePlanner`]), the teacher of every
+//!   search recipe, built on its [`belief`] and the [`clearance`] queries.
+//! - [`distance`], [`numeric`]: the capped distance transform and numpy's float order the
+//!   rules were chosen with.
+//! - [`act_batch`]: one probe per episode of a batch, the planners run on every core.
+//!
+//! A planner is given the episode configuration (the static geometry it may know) and then
+//! observations alone: the map image and the proprio vector. It has no way to read the
+//! scene, the target or anything else of an episode's ground truth.
+
+mod batch;
+mod belief;
+mod clearance;
+mod distance;
+mod error;
+mod geometry;
+mod numeric;
+pub mod probe_planner;
+
+pub use batch::act_batch;
+pub use error::PlannerError;
+pub use probe_planner::{PlannerObservation, ProbePlanner};

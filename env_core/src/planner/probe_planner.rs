@@ -1,0 +1,438 @@
+//! The GPIS probe planner: a scripted searcher that plans on the GPIS map without ground
+//! truth, choosing the probes of the `probe` action mode. The teacher every recipe clones.
+//!
+//! Strategy. The target hides in the camera's shadow behind other jars, and touching a jar
+//! that is not the target does not end the episode. The planner keeps a [`Belief`]: the
+//! GPIS mean and std decoded from the observation, the camera's shadows, the cells its
+//! finger swept without contact and the jars it touched. Each action is a probe of the
+//! core's grid, `[lane, depth, sweep]`, which the observation-only controller
+//! ([`crate::episode::ProbeController`]) carries out as a learned agent's probes are.
+//!
+//! Per probe it reads one observation, after the probe, and nothing else: the map image and
+//! the proprio vector. Its belief learns what the finger swept from the probe it chose (or
+//! was told the env carried out, [`ProbePlanner::follow`]) and the pose the probe ended in,
+//! and what it touched from the map and the contact in the observation. It then scores
+//! every probe of the grid the wrist and arm can make without coming near a cell that may
+//! hold a jar ([`super::clearance`]), with a sweep no wider than the largest safe turn, by
+//! the hiding weight its finger passes over per motion the controller will make
+//! ([`crate::episode::ProbeController::motions`]).
+//!
+//! The rules and their constants are the Python planner's, computed in its order (numpy's
+//! sums and sequences, [`super::numeric`]), so that it makes the same probes.
+
+use super::belief::Belief;
+use super::clearance::{deepest_clear, safe_angle, ClearanceField, TurnProbe};
+use super::error::PlannerError;
+use super::geometry::PlannerGeometry;
+use super::numeric::pairwise_sum;
+use crate::episode::maps::{decode_image, MapMode};
+use crate::episode::{decode_proprio, Probe};
+use crate::episode::{ActionMode, EpisodeConfig, Quantity, PROPRIO_LEN};
+use crate::scene::HandPose;
+use crate::settings::Choice;
+
+/// Motions added to every probe's cost (favours probes that cover more at once).
+const COST_OFFSET: f64 = 15.0;
+/// A pose is at a lane, or has not turned, within these (m, rad).
+const LANE_TOL: f64 = 1e-4;
+const YAW_TOL: f64 = 1e-3;
+/// An offset this near the finger's length (as a share) was clipped by the observation.
+const CLIPPED_SHARE: f64 = 0.999;
+
+/// One observation as the planner reads it: the map image (`C × H × W` bytes, channel
+/// first) and the proprio vector.
+#[derive(Debug, Clone, Copy)]
+pub struct PlannerObservation<'a> {
+    /// The map image, `C × H × W` bytes.
+    pub map: &'a [u8],
+    /// The proprio vector.
+    pub proprio: &'a [f32; PROPRIO_LEN],
+}
+
+/// The wrist's pose and the touch, as decoded from the proprio vector.
+#[derive(Debug, Clone, Copy)]
+struct Pose {
+    x: f64,
+    y: f64,
+    yaw: f64,
+    deflection: f64,
+    /// The contact point and the touched jar's outward normal, when the finger touches.
+    contact: Option<([f64; 2], [f64; 2])>,
+}
+
+/// A probe as its finger path: in along lane `x` to wrist depth `y`, then a turn of
+/// `angle` rad towards `side` (+1: +x).
+#[derive(Debug, Clone, Copy)]
+struct SweptProbe {
+    x: f64,
+    y: f64,
+    side: f64,
+    angle: f64,
+}
+
+/// A probe the hand can make, with the motions the controller takes to make it.
+struct Candidate {
+    action: [i64; 3],
+    probe: SweptProbe,
+    motions: f64,
+}
+
+/// The planner of one episode at a time (see the module docs).
+#[derive(Debug, Clone)]
+pub struct ProbePlanner {
+    config: EpisodeConfig,
+    geometry: PlannerGeometry,
+    turns: TurnProbe,
+    belief: Option<Belief>,
+    chosen: Option<[i64; 3]>,
+}
+
+impl ProbePlanner {
+    /// The planner of episodes of `config`, which must have the GPIS map and the `probe`
+    /// action mode.
+    pub fn new(config: &EpisodeConfig) -> Result<Self, PlannerError> {
+        if config.map.mode != MapMode::Gpis {
+            return Err(PlannerError::NeedsGpisMap(config.map.mode.name()));
+        }
+        if config.action_mode != ActionMode::Probe {
+            return Err(PlannerError::NeedsProbeActions(config.action_mode.name()));
+        }
+        let geometry = PlannerGeometry::of(config)?;
+        Ok(Self {
+            config: config.clone(),
+            turns: TurnProbe::new(&geometry),
+            geometry,
+            belief: None,
+            chosen: None,
+        })
+    }
+
+    /// Starts an episode from its first observation.
+    pub fn reset(&mut self, observation: PlannerObservation<'_>) -> Result<(), PlannerError> {
+        let (mean, std) = self.decode_map(observation.map)?;
+        self.belief = Some(Belief::new(&self.geometry, mean, std));
+        self.chosen = None;
+        let pose = self.pose(observation.proprio);
+        self.remember_touch(&pose);
+        Ok(())
+    }
+
+    /// Takes `observation` (the one after the last probe) into the belief and chooses the
+    /// next probe, `[lane, depth, sweep]`.
+    pub fn act(&mut self, observation: PlannerObservation<'_>) -> Result<[i64; 3], PlannerError> {
+        let pose = self.observe(observation)?;
+        let chosen = self.choose(&pose);
+        self.chosen = Some(chosen);
+        Ok(chosen)
+    }
+
+    /// Takes `action`, not the probe [`ProbePlanner::act`] just chose, as the probe the env
+    /// carries out next: the planner then labels states another agent visits (DAgger), its
+    /// belief learning from the probes that agent made.
+    pub fn follow(&mut self, action: [i64; 3]) -> Result<(), PlannerError> {
+        if self.belief.is_none() {
+            return Err(PlannerError::NotReset);
+        }
+        self.geometry.controller.check(&action)?;
+        self.chosen = Some(action);
+        Ok(())
+    }
+
+    fn decode_map(&self, image: &[u8]) -> Result<(Vec<f64>, Vec<f64>), PlannerError> {
+        let cells = self.geometry.xs.len();
+        let mut channels = decode_image(&self.config.map, cells, image)?.into_iter();
+        match (channels.next(), channels.next()) {
+            (Some(("mean", mean)), Some(("std", std))) => Ok((mean, std)),
+            _ => unreachable!("the gpis map decodes to its mean and std"),
+        }
+    }
+
+    fn observe(&mut self, observation: PlannerObservation<'_>) -> Result<Pose, PlannerError> {
+        if self.belief.is_none() {
+            return Err(PlannerError::NotReset);
+        }
+        let (mean, std) = self.decode_map(observation.map)?;
+        self.belief_mut().update(mean, std);
+        let pose = self.pose(observation.proprio);
+        if let Some(chosen) = self.chosen {
+            self.sweep_probe_path(chosen, &pose);
+        }
+        self.remember_touch(&pose);
+        Ok(pose)
+    }
+
+    fn belief(&self) -> &Belief {
+        self.belief.as_ref().expect("reset before use")
+    }
+
+    fn belief_mut(&mut self) -> &mut Belief {
+        self.belief.as_mut().expect("reset before use")
+    }
+
+    // -- the observation ---------------------------------------------------------------
+
+    fn pose(&self, proprio: &[f32; PROPRIO_LEN]) -> Pose {
+        let decoded = decode_proprio(proprio, &self.config);
+        let real = |name: &str| match decoded.iter().find(|(n, _)| *n == name) {
+            Some((_, Quantity::Real(value))) => *value,
+            _ => unreachable!("{name} is a real quantity of the proprio"),
+        };
+        let touching = matches!(
+            decoded.iter().find(|(n, _)| *n == "in_contact"),
+            Some((_, Quantity::Flag(true)))
+        );
+        let (x, y, deflection) = (real("x"), real("y"), real("deflection"));
+        // The heading in float32 from the observed sin and cos (the rules' constants were
+        // chosen on this angle; the decoded f64 yaw differs in the last bits).
+        let entry = |name: &str| {
+            proprio[crate::episode::observation::proprio_index(name).expect("an entry")]
+        };
+        let yaw = f64::from(entry("sin_yaw").atan2(entry("cos_yaw")));
+        let contact = touching.then(|| {
+            let offset = [real("contact_dx"), real("contact_dy")];
+            let point = self.contact_point([x, y], yaw + deflection, yaw, offset);
+            (point, [real("normal_x"), real("normal_y")])
+        });
+        Pose {
+            x,
+            y,
+            yaw,
+            deflection,
+            contact,
+        }
+    }
+
+    /// The contact point from its offset to the wrist. The observation clips the offset at
+    /// the finger length, which cuts off contacts near the fingertip; those are put back on
+    /// the finger from the unclipped component.
+    fn contact_point(&self, wrist: [f64; 2], heading: f64, yaw: f64, offset: [f64; 2]) -> [f64; 2] {
+        let g = &self.geometry;
+        let point = [wrist[0] + offset[0], wrist[1] + offset[1]];
+        let clipped = offset.map(|o| o.abs() >= CLIPPED_SHARE * g.finger_length);
+        if !clipped[0] && !clipped[1] {
+            return point;
+        }
+        let forward = PlannerGeometry::forward(yaw);
+        let joint = [
+            wrist[0] + g.joint_offset * forward[0],
+            wrist[1] + g.joint_offset * forward[1],
+        ];
+        let direction = PlannerGeometry::forward(heading);
+        let mut along = g.finger_length;
+        for axis in 0..2 {
+            if !clipped[axis] && direction[axis].abs() > 0.3 {
+                along = ((point[axis] - joint[axis]) / direction[axis]).clamp(0.0, along);
+                break;
+            }
+        }
+        [
+            joint[0] + along * direction[0],
+            joint[1] + along * direction[1],
+        ]
+    }
+
+    /// Adds a touched jar, or the finger where it is (touching nothing), to the belief.
+    fn remember_touch(&mut self, pose: &Pose) {
+        let g = &self.geometry;
+        let forward = PlannerGeometry::forward(pose.yaw);
+        let joint = [
+            pose.x + g.joint_offset * forward[0],
+            pose.y + g.joint_offset * forward[1],
+        ];
+        let heading = PlannerGeometry::forward(pose.yaw + pose.deflection);
+        let tip = [
+            joint[0] + g.finger_length * heading[0],
+            joint[1] + g.finger_length * heading[1],
+        ];
+        let belief = self.belief.as_mut().expect("reset before use");
+        match pose.contact {
+            Some((point, normal)) => belief.add_touch(g, point, normal),
+            None => belief.sweep_finger(g, joint, tip),
+        }
+    }
+
+    // -- what the last probe swept -----------------------------------------------------
+
+    /// Marks as swept what the finger passed on its way through probe `chosen` to `after`,
+    /// as the controller drives it: straight along the lane to the depth the probe ended
+    /// at, then the turn from straight to where it ended. The cells are those the probe's
+    /// score counts ([`covers`] at the sweep radius), so a probe that touched nothing
+    /// leaves nothing it was chosen for.
+    fn sweep_probe_path(&mut self, chosen: [i64; 3], after: &Pose) {
+        let g = &self.geometry;
+        let lane_x = g.probe_lanes[chosen[0] as usize];
+        if (after.x - lane_x).abs() > LANE_TOL {
+            return; // stopped before reaching its lane (the hand blocked): nothing known
+        }
+        let side = if after.yaw < 0.0 { 1.0 } else { -1.0 }; // a negative yaw turns to +x
+        let done = SweptProbe {
+            x: lane_x,
+            y: after.y,
+            side,
+            angle: after.yaw.abs(),
+        };
+        let hit = Belief::sweep_radius(g);
+        let covered: Vec<(usize, bool)> = (0..g.xs.len())
+            .map(|k| (k, covers(g, &done, [g.xs[k], g.ys[k]], hit)))
+            .collect();
+        self.belief_mut().mark_swept(covered.into_iter());
+    }
+
+    // -- choosing the next probe -------------------------------------------------------
+
+    /// The grid probe with the most hiding weight under its finger per motion: where the
+    /// target may hide by the strict conditions, or, when no probe the hand can make covers
+    /// any of that, by the relaxed ones.
+    fn choose(&self, pose: &Pose) -> [i64; 3] {
+        let g = &self.geometry;
+        let belief = self.belief();
+        let candidates = self.candidates(pose);
+        // Count what a probe that touches nothing clears from the belief (the cells its
+        // sweep marks), not the wider ring within a jar radius of the finger: that ring is
+        // never cleared, and counting it made a probe worth repeating.
+        let hit = Belief::sweep_radius(g);
+        let mut covered = Vec::new();
+        for relaxed in [false, true] {
+            let weight = belief.hiding_weight(g, relaxed);
+            let cells: Vec<usize> = (0..weight.len()).filter(|&k| weight[k] > 0.0).collect();
+            let mut best: Option<[i64; 3]> = None;
+            let mut best_score = 0.0;
+            let mut wrist = None;
+            let mut seen_from = Vec::with_capacity(cells.len());
+            for candidate in &candidates {
+                let probe = &candidate.probe;
+                if wrist != Some([probe.x, probe.y]) {
+                    wrist = Some([probe.x, probe.y]);
+                    seen_from.clear();
+                    seen_from.extend(
+                        cells.iter().map(|&k| {
+                            FromWrist::new(g, [probe.x, probe.y], [g.xs[k], g.ys[k]], hit)
+                        }),
+                    );
+                }
+                covered.clear();
+                covered.extend(
+                    cells
+                        .iter()
+                        .zip(&seen_from)
+                        .filter(|(_, from)| from.covered(g, probe.side, probe.angle, hit))
+                        .map(|(&k, _)| weight[k]),
+                );
+                let score = pairwise_sum(&covered) / (candidate.motions + COST_OFFSET);
+                if score > best_score {
+                    best = Some(candidate.action);
+                    best_score = score;
+                }
+            }
+            if let Some(best) = best {
+                return best;
+            }
+        }
+        // Nothing left to cover: straight in at the middle lane's opening.
+        [
+            (g.probe_lanes.len() / 2) as i64,
+            0,
+            (g.probe_yaws.len() / 2) as i64,
+        ]
+    }
+
+    /// Every grid probe the wrist and arm can make from `pose` without coming near a cell
+    /// that may hold a jar, its sweep no wider than the largest safe turn, except a wait.
+    fn candidates(&self, pose: &Pose) -> Vec<Candidate> {
+        let g = &self.geometry;
+        let belief = self.belief();
+        let field = ClearanceField::new(g, &belief.blocked(g));
+        let solid = ClearanceField::new(g, &belief.solid(0.0));
+        let turns = &self.turns;
+        let from = HandPose {
+            x: pose.x,
+            y: pose.y,
+            yaw: pose.yaw,
+        };
+        let mut reachable = Vec::new();
+        for (lane, &x) in g.probe_lanes.iter().enumerate() {
+            let Some(deepest) = deepest_clear(g, &field, &solid, x) else {
+                continue;
+            };
+            for (depth, &y) in g.probe_depths.iter().enumerate() {
+                if y > deepest + 1e-9 {
+                    break;
+                }
+                let safe = |side: f64| safe_angle(g, turns, &field, &solid, [x, y], side);
+                let safe = [safe(-1.0), safe(1.0)];
+                // The motions to this lane and depth, shared by its sweeps.
+                let (approach, reached) = g.controller.approach(from, &Probe { x, y, yaw: 0.0 });
+                for (sweep, &yaw) in g.probe_yaws.iter().enumerate() {
+                    let side = if yaw < 0.0 { 1.0 } else { -1.0 };
+                    let angle = yaw.abs();
+                    if angle > safe[usize::from(side > 0.0)] + 1e-9 {
+                        continue;
+                    }
+                    let is_here = (pose.x - x).abs() <= LANE_TOL
+                        && (pose.y - y).abs() <= LANE_TOL
+                        && (pose.yaw - yaw).abs() <= YAW_TOL;
+                    if is_here {
+                        continue; // a wait: the scene does not change while the hand waits
+                    }
+                    let motions = approach + g.controller.motions(reached, &Probe { x, y, yaw });
+                    reachable.push(Candidate {
+                        action: [lane as i64, depth as i64, sweep as i64],
+                        probe: SweptProbe { x, y, side, angle },
+                        motions: motions as f64,
+                    });
+                }
+            }
+        }
+        reachable
+    }
+}
+
+/// A candidate jar centre seen from a probe's wrist position: what [`covers`] needs of it
+/// for any sweep of the probes at that position (the distance and the bearings are the
+/// same for every sweep, so a position's probes compute them once).
+#[derive(Debug, Clone, Copy)]
+struct FromWrist {
+    /// The centre's offset from the wrist, x (as a turn towards +x sees it) and y.
+    dx: f64,
+    dy: f64,
+    /// Within the finger's reach: the distance and the bearing from straight ahead for a
+    /// turn towards −x and towards +x.
+    near: Option<(f64, [f64; 2])>,
+}
+
+impl FromWrist {
+    fn new(g: &PlannerGeometry, wrist: [f64; 2], centre: [f64; 2], hit: f64) -> Self {
+        let (dx, dy) = (centre[0] - wrist[0], centre[1] - wrist[1]);
+        let limit = g.reach + hit;
+        // hypot is at least each leg, so a leg beyond the limit puts the centre beyond it.
+        let near = (dx.abs() <= limit && dy.abs() <= limit)
+            .then(|| dx.hypot(dy))
+            .filter(|&rho| rho <= limit)
+            .map(|rho| (rho, [(-dx).atan2(dy), dx.atan2(dy)]));
+        Self { dx, dy, near }
+    }
+
+    /// Whether the centre lies within `hit` of the finger's path of a probe at this wrist
+    /// position that turns `angle` towards `side` (+1: +x): straight in along the lane,
+    /// then the turn.
+    fn covered(&self, g: &PlannerGeometry, side: f64, angle: f64, hit: f64) -> bool {
+        let dx = self.dx * side;
+        if dx.abs() <= hit && self.dy <= g.reach + hit {
+            return true;
+        }
+        let Some((rho, bearings)) = self.near else {
+            return false;
+        };
+        let phi = bearings[usize::from(side > 0.0)];
+        let half_pi = std::f64::consts::FRAC_PI_2;
+        let beyond = (phi - phi.clamp(0.0, angle)).clamp(-half_pi, half_pi);
+        let off_ray = rho * beyond.abs().sin();
+        let along_ray = rho * beyond.cos();
+        off_ray <= hit && along_ray >= g.joint_offset
+    }
+}
+
+/// Whether a jar centre at `centre` lies within `hit` of `probe`'s finger path.
+fn covers(g: &PlannerGeometry, probe: &SweptProbe, centre: [f64; 2], hit: f64) -> bool {
+    FromWrist::new(g, [probe.x, probe.y], centre, hit).covered(g, probe.side, probe.angle, hit)
+}
