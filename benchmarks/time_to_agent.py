@@ -61,58 +61,78 @@ class StageClock:
         return wrapper
 
 
+class _TimedPlanner:
+    """The core's batch planner with every call's time added to the teacher's row."""
+
+    def __init__(self, clock: StageClock, row: Callable[[], str], planner: Any) -> None:
+        self._planner = planner
+        for name in ("reset", "act", "follow"):
+            setattr(self, name, clock.timed(row, getattr(planner, name)))
+
+
 def instrument(clock: StageClock) -> contextlib.ExitStack:
     """Wraps the recipe's stages (the functions ``agents.imitation`` and the PPO stage call)
     with ``clock``'s timers; closing the stack puts the originals back."""
-    from agents.imitation import clone_stage, demonstrations, training
+    from agents.imitation import batched, clone_stage, demonstrations, training
 
     stack = contextlib.ExitStack()
     rounds = {"record": 0, "clone": 0}
     current = {"rollouts": "demonstrations"}
     teacher_class = type(demonstrations.make_teacher(training.PLANNER))
 
+    def row(part: str) -> Callable[[], str]:
+        return lambda: f"{current['rollouts']} ({part})"
+
     def patch(owner: Any, name: str, replacement: Any) -> None:
         original = getattr(owner, name)
         setattr(owner, name, replacement)
         stack.callback(setattr, owner, name, original)
 
-    def recording(*args: Any, **kwargs: Any) -> Any:
-        index = rounds["record"]
-        rounds["record"] += 1
-        current["rollouts"] = "demonstrations" if index == 0 else f"DAgger round {index}"
-        # The teacher's and the student's time inside are rows of their own.
-        inside = [f"{current['rollouts']} ({part})" for part in (TEACHER, STUDENT)]
-        before = sum(clock.seconds.get(row, 0.0) for row in inside)
-        with clock.timing(f"{current['rollouts']} (env and rest)"):
-            result = original_record(*args, **kwargs)
-        spent = sum(clock.seconds.get(row, 0.0) for row in inside) - before
-        clock.add(f"{current['rollouts']} (env and rest)", -spent)
-        return result
+    def recording(original: Callable[..., Any]) -> Callable[..., Any]:
+        def timed(*args: Any, **kwargs: Any) -> Any:
+            index = rounds["record"]
+            rounds["record"] += 1
+            current["rollouts"] = "demonstrations" if index == 0 else f"DAgger round {index}"
+            # The teacher's and the student's time inside are rows of their own.
+            inside = [row(part)() for part in (TEACHER, STUDENT)]
+            before = sum(clock.seconds.get(name, 0.0) for name in inside)
+            with clock.timing(row("env and rest")()):
+                result = original(*args, **kwargs)
+            spent = sum(clock.seconds.get(name, 0.0) for name in inside) - before
+            clock.add(row("env and rest")(), -spent)
+            return result
+
+        return timed
 
     def cloning_stage() -> str:
         index = rounds["clone"]
         rounds["clone"] += 1
         return "behaviour cloning" if index == 0 else f"DAgger round {index} (cloning)"
 
-    def sampling_student(model: Any) -> Any:
-        start = original_student(model)
+    def timed_student(factory: Callable[..., Any]) -> Callable[..., Any]:
+        def make(model: Any) -> Any:
+            made = factory(model)
+            if factory is original_student:  # per episode: a policy per layout
+                return lambda layout: clock.timed(row(STUDENT), made(layout))
+            return clock.timed(row(STUDENT), made)
 
-        def timed_start(layout_seed: int) -> Any:
-            return clock.timed(lambda: f"{current['rollouts']} ({STUDENT})", start(layout_seed))
+        return make
 
-        return timed_start
-
-    original_record = training.record
     original_student = training._sampling_student
-    patch(training, "record", recording)
+    original_planner = batched.ProbePlanner
+    patch(training, "record", recording(training.record))
+    patch(training, "record_batched", recording(training.record_batched))
     patch(training, "clone", clock.timed(cloning_stage, training.clone))
-    patch(training, "_sampling_student", sampling_student)
+    patch(training, "_sampling_student", timed_student(training._sampling_student))
+    patch(training, "_sampling_batch_student", timed_student(training._sampling_batch_student))
+    patch(
+        batched,
+        "ProbePlanner",
+        lambda *args: _TimedPlanner(clock, row(TEACHER), original_planner(*args)),
+    )
     patch(clone_stage, "train", clock.timed(lambda: "PPO fine-tuning", clone_stage.train))
     for method in ("act", "follow"):
-        timed = clock.timed(
-            lambda: f"{current['rollouts']} ({TEACHER})", getattr(teacher_class, method)
-        )
-        patch(teacher_class, method, timed)
+        patch(teacher_class, method, clock.timed(row(TEACHER), getattr(teacher_class, method)))
     return stack
 
 

@@ -76,6 +76,7 @@ def clone_stage(
     torch_threads: int = 1,
     env_id: str = ENV_ID,
     progress: bool = True,
+    env_threads: int | None = None,
 ) -> Path:
     """The clone that a run of ``algo``'s ``recipe`` (with an ``imitation`` section) starts from:
     ``<run_dir>/imitation``, imitated with the section's settings unless it already holds a
@@ -104,6 +105,7 @@ def clone_stage(
         env_id=env_id,
         progress=progress,
         demonstrations_file=teacher_file,
+        env_threads=env_threads,
     )
 
 
@@ -176,6 +178,7 @@ def train_with_clone_stage(
         algo=settings.algo,
         seed=settings.seed,
         torch_threads=settings.torch_threads,
+        env_threads=settings.env_threads,
         env_id=settings.env_id,
         progress=settings.progress_bar,
     )

@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from agents.imitation.batched import record_batched
 from agents.imitation.cloning import CloningSettings, agreement, clone
 from agents.imitation.demonstrations import Demonstrations, record
 from agents.imitation.mirror import check_symmetric, mirrored
@@ -157,9 +158,13 @@ def imitate_into(
     demonstrations_file: Path | None = None,
     label: str = "imitation",
     algo: str = "ppo",
+    env_threads: int | None = None,
 ) -> Path:
     """``imitate`` with ``algo``'s ``recipe`` given (its network, spaces and env) and the run
-    written to ``run_dir``; returns ``run_dir``."""
+    written to ``run_dir``; returns ``run_dir``. The planner's demonstrations and the DAgger
+    rounds run ``recipe["n_envs"]`` episodes at a time on ``env_threads`` cores (default
+    every core; ``agents.imitation.batched``); an ensemble teacher labels one episode at a
+    time."""
     import torch
     from stable_baselines3.common.utils import set_random_seed
 
@@ -186,6 +191,20 @@ def imitate_into(
         if progress:
             print(f"[{time.monotonic() - started:7.1f} s] {text}", flush=True)
 
+    def recording(round_layouts: list[int], student: Any) -> Demonstrations:
+        """The teacher's labels on ``round_layouts``, the teacher or ``model`` acting."""
+        if settings.teacher == PLANNER:
+            return record_batched(
+                round_layouts,
+                env_kwargs,
+                gamma,
+                student=None if student is None else _sampling_batch_student(student),
+                num_envs=recipe["n_envs"],
+                threads=env_threads,
+            )
+        acting = None if student is None else _sampling_student(student)
+        return record(round_layouts, env_kwargs, gamma, student=acting, teacher=settings.teacher)
+
     teacher_layouts = layouts[: settings.demo_episodes]
     if demonstrations_file is not None and Path(demonstrations_file).is_file():
         demonstrations = Demonstrations.load(demonstrations_file)
@@ -195,7 +214,7 @@ def imitate_into(
                 f"{len(teacher_layouts)} (seed {seed}); give another file"
             )
     else:
-        demonstrations = record(teacher_layouts, env_kwargs, gamma, teacher=settings.teacher)
+        demonstrations = recording(teacher_layouts, None)
         if demonstrations_file is not None:
             demonstrations.save(demonstrations_file)
     train, held_out = demonstrations.split_by_layout(HELD_OUT, seed)
@@ -208,6 +227,7 @@ def imitate_into(
         "map": map_mode,
         "seed": seed,
         "torch_threads": torch_threads,
+        "env_threads": env_threads,
         "train_layout_seeds": list(TRAIN_LAYOUT_SEEDS),
         "hyperparams": recipe,
         "versions": versions(),
@@ -244,13 +264,7 @@ def imitate_into(
         start = settings.demo_episodes + (index - 1) * settings.dagger_episodes
         round_layouts = layouts[start : start + settings.dagger_episodes]
         torch.manual_seed(seed * 1000 + index)
-        labelled = record(
-            round_layouts,
-            env_kwargs,
-            gamma,
-            student=_sampling_student(model),
-            teacher=settings.teacher,
-        )
+        labelled = recording(round_layouts, model)
         probes += len(labelled)
         gathered = Demonstrations.concatenate([gathered, augmented(labelled)])
         again = dataclasses.replace(
@@ -317,6 +331,21 @@ def _sampling_student(model: Any) -> Any:
         return act
 
     return start
+
+
+def _sampling_batch_student(model: Any) -> Any:
+    """The model's policy sampling the probes of a batch of episodes at once (as PPO
+    explores), a recurrent policy's memory per episode (reset where one starts)."""
+    memory = None
+
+    def act(observations: dict, starts: np.ndarray) -> np.ndarray:
+        nonlocal memory
+        actions, memory = model.predict(
+            observations, state=memory, episode_start=starts, deterministic=False
+        )
+        return np.asarray(actions)
+
+    return act
 
 
 def _round_record(
