@@ -71,12 +71,14 @@ def record_batched(
     student: BatchStudent | None = None,
     num_envs: int = 16,
     threads: int | None = None,
+    progress: Callable[[int], Any] | None = None,
 ) -> Demonstrations:
     """The GPIS probe planner's labels over one episode per layout seed in the env of
     ``env_kwargs`` (the student's settings, the probe action mode), ``num_envs`` episodes
     at a time on ``threads`` cores (default every core). Without ``student`` the planner
     acts; with one, the student's probes are carried out while the planner labels.
-    ``returns`` are discounted by ``gamma`` within the episode."""
+    ``returns`` are discounted by ``gamma`` within the episode. ``progress(k)`` is called as
+    ``k`` more episodes finish (a progress bar's ``update``)."""
     if env_kwargs.get("action_mode") != "probe":
         raise ValueError(
             f"demonstrations need action_mode='probe' (the teacher's probes), got "
@@ -99,7 +101,7 @@ def record_batched(
     planner = ProbePlanner(teacher_env.config.core, n)
     finished: list[Demonstrations | None] = [None] * len(layouts)
     try:
-        _run(layouts, student_env, teacher_env, planner, gamma, student, finished)
+        _run(layouts, student_env, teacher_env, planner, gamma, student, finished, progress)
     finally:
         student_env.close()
         if twin:
@@ -115,6 +117,7 @@ def _run(
     gamma: float,
     student: BatchStudent | None,
     finished: list[Demonstrations | None],
+    progress: Callable[[int], Any] | None,
 ) -> None:
     n = student_env.num_envs
     twin = teacher_env is not student_env
@@ -167,6 +170,8 @@ def _run(
             episode.rewards.append(float(rewards[i]))
             if ended[i]:
                 finished[episode.order] = episode.finish(gamma, info, i)
+                if progress is not None:
+                    progress(1)
         starts = ended.copy()
         if ended.any():
             observation, fresh = start(ended)

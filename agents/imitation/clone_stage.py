@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from agents.imitation.demonstrations import Demonstrations
+from agents.imitation.stage_progress import stage_plan
 from agents.imitation.teachers import PLANNER
 from agents.imitation.training import (
     ImitationSettings,
@@ -172,6 +173,10 @@ def train_with_clone_stage(
     section = with_overrides(recipe["imitation"], imitation_overrides or {})
     if settings.n_envs is not None:
         recipe["n_envs"] = int(settings.n_envs)
+    if settings.progress_bar:
+        timesteps = settings.timesteps or recipe["n_timesteps"]
+        plan = stage_plan(ImitationSettings.from_recipe(section, settings.seed), timesteps)
+        print(f"{settings.algo} {settings.map_mode} seed {settings.seed}: {plan}", flush=True)
     clone = clone_stage(
         run_dir,
         {**recipe, "imitation": section},

@@ -43,11 +43,17 @@ class CloningSettings:
             raise ValueError(f"learning_rate must be > 0, got {self.learning_rate!r}")
 
 
-def clone(policy: Any, demonstrations: Demonstrations, settings: CloningSettings) -> list[dict]:
+def clone(
+    policy: Any,
+    demonstrations: Demonstrations,
+    settings: CloningSettings,
+    progress: Any = None,
+) -> list[dict]:
     """Trains ``policy`` (an SB3 ``ActorCriticPolicy``, or sb3-contrib's recurrent one) on
     ``demonstrations``; per epoch, the mean action negative log-likelihood, value loss and
     entropy. A recurrent policy learns from whole episodes: each minibatch is episodes in
-    their order, its memory starting empty at each episode's first probe."""
+    their order, its memory starting empty at each episode's first probe. ``progress(1)``
+    is called after each epoch (a progress bar's ``update``)."""
     import torch
 
     if len(demonstrations) == 0:
@@ -73,6 +79,8 @@ def clone(policy: Any, demonstrations: Demonstrations, settings: CloningSettings
             totals += len(batch) * np.array([nll.item(), value_loss.item(), mean_entropy.item()])
         nll_, value_, entropy_ = totals / len(demonstrations)
         history.append({"nll": nll_, "value_loss": value_, "entropy": entropy_})
+        if progress is not None:
+            progress(1)
     policy.set_training_mode(False)
     return history
 

@@ -30,6 +30,7 @@ from agents.imitation.batched import record_batched
 from agents.imitation.cloning import CloningSettings, agreement, clone
 from agents.imitation.demonstrations import Demonstrations, record
 from agents.imitation.mirror import check_symmetric, mirrored
+from agents.imitation.stage_progress import stage_bar
 from agents.imitation.teachers import PLANNER, check_teacher
 from agents.run_dir import (
     code_version,
@@ -191,19 +192,27 @@ def imitate_into(
         if progress:
             print(f"[{time.monotonic() - started:7.1f} s] {text}", flush=True)
 
-    def recording(round_layouts: list[int], student: Any) -> Demonstrations:
+    def recording(round_layouts: list[int], student: Any, stage: str) -> Demonstrations:
         """The teacher's labels on ``round_layouts``, the teacher or ``model`` acting."""
-        if settings.teacher == PLANNER:
-            return record_batched(
-                round_layouts,
-                env_kwargs,
-                gamma,
-                student=None if student is None else _sampling_batch_student(student),
-                num_envs=recipe["n_envs"],
-                threads=env_threads,
+        with stage_bar(stage, len(round_layouts), "episode", progress) as update:
+            if settings.teacher == PLANNER:
+                return record_batched(
+                    round_layouts,
+                    env_kwargs,
+                    gamma,
+                    student=None if student is None else _sampling_batch_student(student),
+                    num_envs=recipe["n_envs"],
+                    threads=env_threads,
+                    progress=update,
+                )
+            acting = None if student is None else _sampling_student(student)
+            return record(
+                round_layouts, env_kwargs, gamma, student=acting, teacher=settings.teacher
             )
-        acting = None if student is None else _sampling_student(student)
-        return record(round_layouts, env_kwargs, gamma, student=acting, teacher=settings.teacher)
+
+    def cloning(data: Demonstrations, cloning_settings: CloningSettings, stage: str) -> list:
+        with stage_bar(stage, cloning_settings.epochs, "epoch", progress) as update:
+            return clone(policy, data, cloning_settings, progress=update)
 
     teacher_layouts = layouts[: settings.demo_episodes]
     if demonstrations_file is not None and Path(demonstrations_file).is_file():
@@ -214,7 +223,7 @@ def imitate_into(
                 f"{len(teacher_layouts)} (seed {seed}); give another file"
             )
     else:
-        demonstrations = recording(teacher_layouts, None)
+        demonstrations = recording(teacher_layouts, None, "teacher's demonstrations")
         if demonstrations_file is not None:
             demonstrations.save(demonstrations_file)
     train, held_out = demonstrations.split_by_layout(HELD_OUT, seed)
@@ -252,7 +261,7 @@ def imitate_into(
 
     augmented = _augmentation(settings.mirror, env_kwargs)
     train = augmented(train)
-    history = clone(policy, train, settings.cloning)
+    history = cloning(train, settings.cloning, "behaviour cloning")
     rounds = config["imitation"]["rounds"]
     rounds.append(_round_record(0, demonstrations, history, policy, held_out))
     say(f"cloned: {rounds[-1]}")
@@ -264,13 +273,14 @@ def imitate_into(
         start = settings.demo_episodes + (index - 1) * settings.dagger_episodes
         round_layouts = layouts[start : start + settings.dagger_episodes]
         torch.manual_seed(seed * 1000 + index)
-        labelled = recording(round_layouts, model)
+        rounds_in_all = settings.dagger_rounds
+        labelled = recording(round_layouts, model, f"DAgger {index}/{rounds_in_all} rollouts")
         probes += len(labelled)
         gathered = Demonstrations.concatenate([gathered, augmented(labelled)])
         again = dataclasses.replace(
             settings.cloning, epochs=settings.dagger_epochs, seed=settings.cloning.seed + index
         )
-        history = clone(policy, gathered, again)
+        history = cloning(gathered, again, f"DAgger {index}/{rounds_in_all} cloning")
         rounds.append(_round_record(index, labelled, history, policy, held_out))
         say(f"DAgger round {index}: {rounds[-1]}")
     save(run_dir, probes, label)
