@@ -38,6 +38,7 @@ import numpy as np
 
 from agents.scripted.clearance import ClearanceField, deepest_clear, safe_angle
 from agents.scripted.geometry import Geometry
+from agents.scripted.gpis_probe_planner import probe_indices
 from agents.scripted.search_map import SearchMap
 from tactile_search import CupboardSearchEnv
 from tactile_search.envs.observation import PROPRIO
@@ -134,14 +135,7 @@ class BeliefProbePlanner:
             raise RuntimeError("call reset before follow")
         g = self.geometry
         sizes = (len(g.probe_lanes), len(g.probe_depths), len(g.probe_yaws))
-        indices = np.asarray(action).reshape(-1)
-        if indices.shape != (3,) or any(
-            not float(i).is_integer() or not 0 <= i < n for i, n in zip(indices, sizes, strict=True)
-        ):
-            raise ValueError(
-                f"follow needs a probe (lane, depth, sweep) below {sizes}, got {action!r}"
-            )
-        self._chosen = tuple(int(i) for i in indices)
+        self._chosen = probe_indices(action, sizes)
 
     # -- observation -------------------------------------------------------------------
 

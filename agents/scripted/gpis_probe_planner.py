@@ -54,12 +54,17 @@ class GpisProbePlanner:
         not a probe of the grid."""
         if self._core is None:
             raise RuntimeError("call reset before follow")
-        indices = np.asarray(action).reshape(-1)
-        if indices.shape != (3,) or any(
-            not float(i).is_integer() or not 0 <= i < n
-            for i, n in zip(indices, self._sizes, strict=True)
-        ):
-            raise ValueError(
-                f"follow needs a probe (lane, depth, sweep) below {self._sizes}, got {action!r}"
-            )
-        self._core.follow(0, [int(i) for i in indices])
+        self._core.follow(0, list(probe_indices(action, self._sizes)))
+
+
+def probe_indices(action: np.ndarray, sizes: tuple[int, ...]) -> tuple[int, int, int]:
+    """``action`` as a probe's ``(lane, depth, sweep)`` indices below ``sizes``;
+    ``ValueError`` naming the grid for anything else (a float index, one out of range, a
+    shape other than three)."""
+    indices = np.asarray(action).reshape(-1)
+    if indices.shape != (3,) or any(
+        not float(i).is_integer() or not 0 <= i < n for i, n in zip(indices, sizes, strict=True)
+    ):
+        raise ValueError(f"follow needs a probe (lane, depth, sweep) below {sizes}, got {action!r}")
+    lane, depth, sweep = (int(i) for i in indices)
+    return lane, depth, sweep

@@ -52,6 +52,14 @@ pub(super) fn exact_array<T: Element + Copy>(
     if array.shape() != shape {
         return Err(wrong_shape(what, &shape_text(shape), array.shape()));
     }
+    values_of(what, array)
+}
+
+/// The values of `array` in row-major order (`ValueError` while another borrow writes it).
+pub(super) fn values_of<T: Element + Copy>(
+    what: &str,
+    array: &Bound<'_, PyArrayDyn<T>>,
+) -> PyResult<Vec<T>> {
     let readonly = array.try_readonly().map_err(|e| {
         wrong_value(
             what,

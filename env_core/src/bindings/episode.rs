@@ -17,7 +17,7 @@ use super::actions::actions_of;
 use super::batch_arrays::BatchArrays;
 use super::convert::{count_of, seed_of, threads_of};
 use super::decode::{geometry_dict, map_dict, probe_motions, proprio_dict};
-use super::episode_config::PyEpisodeConfig;
+use super::episode_config::{episode_config_of, PyEpisodeConfig};
 use super::errors::{episode_index_error, wrong_type, wrong_value};
 use super::exclusive::Exclusive;
 use super::step_info::info_dict;
@@ -127,12 +127,7 @@ impl PyEpisodeBatch {
         num_envs: &Bound<'_, PyAny>,
         threads: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let config = config
-            .cast::<PyEpisodeConfig>()
-            .map_err(|_| wrong_type("config", "an EpisodeConfig", config))?
-            .get()
-            .checked
-            .clone();
+        let config = episode_config_of(config)?;
         let num_envs = count_of("num_envs", num_envs)?;
         let threads = threads_of(threads)?;
         let built = config.clone();

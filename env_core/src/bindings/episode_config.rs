@@ -5,6 +5,7 @@
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 
+use super::errors::wrong_type;
 use super::settings::{config_dict, config_from, describe};
 use crate::episode::EpisodeConfig;
 use crate::settings::{Checked, Settings};
@@ -17,6 +18,17 @@ use crate::settings::{Checked, Settings};
 #[derive(Clone, PartialEq)]
 pub struct PyEpisodeConfig {
     pub(super) checked: Checked<EpisodeConfig>,
+}
+
+/// The checked settings of `config`, which must be an `EpisodeConfig` (`TypeError`
+/// otherwise).
+pub(super) fn episode_config_of(config: &Bound<'_, PyAny>) -> PyResult<Checked<EpisodeConfig>> {
+    Ok(config
+        .cast::<PyEpisodeConfig>()
+        .map_err(|_| wrong_type("config", "an EpisodeConfig", config))?
+        .get()
+        .checked
+        .clone())
 }
 
 #[pymethods]

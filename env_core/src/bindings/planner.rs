@@ -1,12 +1,12 @@
 //! `ProbePlanner`: the core's GPIS probe planner ([`crate::planner`]) over a batch of
 //! episodes, one planner per episode, acting on every core with the GIL released.
 
-use numpy::{Element, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::{Element, PyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
-use super::decode::{exact_array, typed_array};
-use super::episode_config::PyEpisodeConfig;
-use super::errors::{episode_index_error, wrong_shape, wrong_type, wrong_value};
+use super::decode::{exact_array, typed_array, values_of};
+use super::episode_config::episode_config_of;
+use super::errors::{episode_index_error, wrong_shape, wrong_value};
 use super::exclusive::Exclusive;
 use crate::episode::{EpisodeConfig, PROPRIO_LEN};
 use crate::planner::{act_batch, PlannerError, PlannerObservation, ProbePlanner};
@@ -57,27 +57,14 @@ fn rows_of<T: Element + Copy>(
     if shape.len() != row.len() + 1 || shape[1..] != *row {
         return Err(wrong_shape(what, &shape_wanted, shape));
     }
-    let n = shape[0];
-    let readonly = array.try_readonly().map_err(|e| {
-        wrong_value(
-            what,
-            "an array that is not being written elsewhere",
-            e.to_string(),
-        )
-    })?;
-    Ok((n, readonly.as_array().iter().copied().collect()))
+    Ok((shape[0], values_of(what, array)?))
 }
 
 #[pymethods]
 impl PyProbePlanner {
     #[new]
     fn new(config: &Bound<'_, PyAny>, num_envs: usize) -> PyResult<Self> {
-        let config = config
-            .cast::<PyEpisodeConfig>()
-            .map_err(|_| wrong_type("config", "an EpisodeConfig", config))?
-            .get()
-            .checked
-            .clone();
+        let config = episode_config_of(config)?;
         if num_envs == 0 {
             return Err(wrong_value("num_envs", "at least 1", num_envs));
         }
