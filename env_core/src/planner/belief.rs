@@ -89,8 +89,16 @@ impl Belief {
         let radius = Self::sweep_radius(g);
         let d = [tip[0] - joint[0], tip[1] - joint[1]];
         let length2 = d[0] * d[0] + d[1] * d[1];
+        // Cells farther than the radius (and a margin far above rounding) outside the
+        // segment's bounding box are farther than the radius from it.
+        let reach = radius + 1e-9;
+        let [x_low, x_high] = [joint[0].min(tip[0]) - reach, joint[0].max(tip[0]) + reach];
+        let [y_low, y_high] = [joint[1].min(tip[1]) - reach, joint[1].max(tip[1]) + reach];
         for (k, swept) in self.swept.iter_mut().enumerate() {
             let (x, y) = (g.xs[k], g.ys[k]);
+            if x < x_low || x > x_high || y < y_low || y > y_high {
+                continue;
+            }
             let t = if length2 == 0.0 {
                 0.0
             } else {
@@ -126,7 +134,9 @@ impl Belief {
         let mut near = vec![false; self.swept.len()];
         for &[cx, cy] in &self.touched {
             for (k, cell) in near.iter_mut().enumerate() {
-                *cell |= (g.xs[k] - cx).hypot(g.ys[k] - cy) <= radius;
+                let (dx, dy) = (g.xs[k] - cx, g.ys[k] - cy);
+                // hypot is at least each leg: a leg beyond the radius puts the cell beyond it.
+                *cell |= dx.abs() <= radius && dy.abs() <= radius && dx.hypot(dy) <= radius;
             }
         }
         near

@@ -17,60 +17,43 @@ const MARGIN: f64 = 0.004;
 /// Extra rows and columns of the clearance field beyond the map (outside the cupboard).
 const PAD_CELLS: usize = 10;
 
-/// Distance to the nearest blocked cell on the map padded beyond the cupboard, by
-/// nearest-cell lookup.
-pub struct ClearanceField {
+/// The padded grid a [`ClearanceField`] is sampled on: fixed per geometry, so the cells a
+/// point falls in can be found once and read from every field.
+#[derive(Debug, Clone)]
+pub struct FieldLayout {
     cell: f64,
     inverse_cell: f64,
     x0: f64,
     y0: f64,
     rows: usize,
     cols: usize,
-    distance: Vec<f64>,
 }
 
-impl ClearanceField {
-    /// The field of `blocked` (the map's cells, row-major).
-    pub fn new(g: &PlannerGeometry, blocked: &[bool]) -> Self {
+impl FieldLayout {
+    /// The map's grid padded by `PAD_CELLS` beyond the sides and the opening.
+    pub fn new(g: &PlannerGeometry) -> Self {
         let (h, w) = g.grid_shape;
         let pad = PAD_CELLS as f64;
-        let x0 = -0.5 * g.width - pad * g.cell;
-        let y0 = -pad * g.cell;
-        let (rows, cols) = (h + PAD_CELLS, w + 2 * PAD_CELLS);
-        let mut padded = vec![false; rows * cols];
-        for i in 0..rows {
-            let y = y0 + (i as f64 + 0.5) * g.cell;
-            for j in 0..cols {
-                let x = x0 + (j as f64 + 0.5) * g.cell;
-                let inside = i >= PAD_CELLS && (PAD_CELLS..PAD_CELLS + w).contains(&j);
-                padded[i * cols + j] = (inside && blocked[(i - PAD_CELLS) * w + (j - PAD_CELLS)])
-                    || (x.abs() > 0.5 * g.width && y > 0.0);
-            }
-        }
         Self {
             cell: g.cell,
             inverse_cell: 1.0 / g.cell,
-            x0,
-            y0,
-            rows,
-            cols,
-            distance: distance_to(&padded, rows, cols, g.cell, DISTANCE_CAP),
+            x0: -0.5 * g.width - pad * g.cell,
+            y0: -pad * g.cell,
+            rows: h + PAD_CELLS,
+            cols: w + 2 * PAD_CELLS,
         }
     }
 
-    /// The distance at the cell holding `(x, y)`; infinite outside the padded grid.
-    pub fn at(&self, x: f64, y: f64) -> f64 {
-        match (self.cell_index(x - self.x0), self.cell_index(y - self.y0)) {
-            (Some(j), Some(i)) if i < self.rows && j < self.cols => {
-                self.distance[i * self.cols + j]
-            }
-            _ => f64::INFINITY,
-        }
+    /// The column holding `x`, if inside the grid.
+    #[inline]
+    fn column(&self, x: f64) -> Option<usize> {
+        self.cell_index(x - self.x0).filter(|&j| j < self.cols)
     }
 
-    /// Whether `y` lies before the padded grid (every point there is outside it).
-    pub fn is_before(&self, y: f64) -> bool {
-        y < self.y0
+    /// The row holding `y`, if inside the grid.
+    #[inline]
+    fn row(&self, y: f64) -> Option<usize> {
+        self.cell_index(y - self.y0).filter(|&i| i < self.rows)
     }
 
     /// The floor of `offset / cell`, `None` below 0. By the reciprocal (a multiplication,
@@ -88,6 +71,52 @@ impl ClearanceField {
         }
         let exact = offset / self.cell;
         (exact >= 0.0).then_some(exact as usize)
+    }
+}
+
+/// Distance to the nearest blocked cell on the map padded beyond the cupboard, by
+/// nearest-cell lookup.
+pub struct ClearanceField {
+    layout: FieldLayout,
+    distance: Vec<f64>,
+}
+
+impl ClearanceField {
+    /// The field of `blocked` (the map's cells, row-major) on `layout`.
+    pub fn new(g: &PlannerGeometry, layout: &FieldLayout, blocked: &[bool]) -> Self {
+        let (h, w) = g.grid_shape;
+        let FieldLayout {
+            x0, y0, rows, cols, ..
+        } = *layout;
+        let mut padded = vec![false; rows * cols];
+        for i in 0..rows {
+            let y = y0 + (i as f64 + 0.5) * g.cell;
+            for j in 0..cols {
+                let x = x0 + (j as f64 + 0.5) * g.cell;
+                let inside = i >= PAD_CELLS && (PAD_CELLS..PAD_CELLS + w).contains(&j);
+                padded[i * cols + j] = (inside && blocked[(i - PAD_CELLS) * w + (j - PAD_CELLS)])
+                    || (x.abs() > 0.5 * g.width && y > 0.0);
+            }
+        }
+        debug_assert_eq!(rows, h + PAD_CELLS);
+        Self {
+            layout: layout.clone(),
+            distance: distance_to(&padded, rows, cols, g.cell, DISTANCE_CAP),
+        }
+    }
+
+    /// The distance at the cell holding `(x, y)`; infinite outside the padded grid.
+    pub fn at(&self, x: f64, y: f64) -> f64 {
+        self.at_cell(self.layout.row(y), self.layout.column(x))
+    }
+
+    /// The distance at cell (`row`, `column`); infinite if either is outside.
+    #[inline]
+    fn at_cell(&self, row: Option<usize>, column: Option<usize>) -> f64 {
+        match (row, column) {
+            (Some(i), Some(j)) => self.distance[i * self.layout.cols + j],
+            _ => f64::INFINITY,
+        }
     }
 }
 
@@ -114,28 +143,39 @@ pub fn deepest_clear(
     deepest
 }
 
-/// The turns [`safe_angle`] tries and the points of the hand it checks, fixed per geometry:
-/// per turn towards −x and towards +x, the offsets from the wrist of the points along the
-/// arm behind it and along the finger ahead.
+/// The turns [`safe_angle`] tries and the cells of the padded grid it reads, fixed per
+/// geometry: for every lane, depth, side and turn, the cells of the points along the arm
+/// behind the wrist and along the finger ahead (found once: a field changes every probe,
+/// its grid never).
 #[derive(Debug, Clone)]
 pub struct TurnProbe {
     angles: Vec<f64>,
-    /// Per side (−x, +x), per angle: the points' offsets from the wrist.
-    offsets: [Vec<TurnedHand>; 2],
+    /// Per (side, angle): the points along the arm, their cells' columns per lane and rows
+    /// per depth.
+    arm: Vec<TurnedPoints>,
+    /// Per (side, angle): the points along the finger, their cells as for the arm.
+    finger: Vec<TurnedPoints>,
 }
 
-/// The offsets (forward · along) of the points checked along the arm and the finger, at
-/// one turn.
+/// A turn's points (arm or finger) as cells of the padded grid, per lane and per depth.
 #[derive(Debug, Clone)]
-struct TurnedHand {
-    arm: Vec<[f64; 2]>,
-    finger: Vec<[f64; 2]>,
+struct TurnedPoints {
+    /// `[lane][point]`: the column holding the point's x.
+    columns: Vec<Vec<Option<usize>>>,
+    /// `[depth][point]`: the row holding the point's y.
+    rows: Vec<Vec<Option<usize>>>,
+    /// `[depth]`: how many of the points come before the first that is clear whatever the
+    /// field: one at or before y = −(arm half width + cell), or before the grid. The arm
+    /// goes back out of the cupboard (a turn is under a right angle), so every point after
+    /// that one is clear too, and only these need reading.
+    needed: Vec<usize>,
 }
 
 impl TurnProbe {
     /// The probe controller's turns, steps of its sweep rate up to the largest sweep angle;
-    /// points along the arm every cell, and 8 along the finger.
-    pub fn new(g: &PlannerGeometry) -> Self {
+    /// points along the arm every cell, and 8 along the finger; their cells for every lane
+    /// and depth of the probe grid.
+    pub fn new(g: &PlannerGeometry, layout: &FieldLayout) -> Self {
         let angles = arange(
             g.probe_sweep_rate,
             g.probe_max_angle + 1e-9,
@@ -147,57 +187,90 @@ impl TurnProbe {
             g.cell,
         );
         let along_finger = linspace(g.joint_offset + 0.02, g.reach, 8);
-        let offsets = [-1.0, 1.0].map(|side: f64| {
-            angles
-                .iter()
-                .map(|&angle| {
-                    let [fx, fy] = PlannerGeometry::forward(-side * angle);
-                    let points = |along: &[f64]| along.iter().map(|&a| [fx * a, fy * a]).collect();
-                    TurnedHand {
-                        arm: points(&along_arm),
-                        finger: points(&along_finger),
+        let escape = -g.arm_half_width - g.cell;
+        let mut arm = Vec::new();
+        let mut finger = Vec::new();
+        for side in [-1.0f64, 1.0] {
+            for &angle in &angles {
+                let [fx, fy] = PlannerGeometry::forward(-side * angle);
+                let points = |along: &[f64], sign: f64| -> TurnedPoints {
+                    let offsets: Vec<[f64; 2]> = along.iter().map(|&a| [fx * a, fy * a]).collect();
+                    // The arm's points are behind the wrist (x − offset), the finger's ahead.
+                    let at = |base: f64, offset: f64| {
+                        if sign < 0.0 {
+                            base - offset
+                        } else {
+                            base + offset
+                        }
+                    };
+                    let ys: Vec<Vec<f64>> = g
+                        .probe_depths
+                        .iter()
+                        .map(|&y| offsets.iter().map(|o| at(y, o[1])).collect())
+                        .collect();
+                    TurnedPoints {
+                        columns: g
+                            .probe_lanes
+                            .iter()
+                            .map(|&x| offsets.iter().map(|o| layout.column(at(x, o[0]))).collect())
+                            .collect(),
+                        rows: ys
+                            .iter()
+                            .map(|row| row.iter().map(|&y| layout.row(y)).collect())
+                            .collect(),
+                        needed: ys
+                            .iter()
+                            .map(|row| {
+                                row.iter()
+                                    .take_while(|&&y| y >= layout.y0 && y > escape)
+                                    .count()
+                            })
+                            .collect(),
                     }
-                })
-                .collect()
-        });
-        Self { angles, offsets }
+                };
+                arm.push(points(&along_arm, -1.0));
+                finger.push(points(&along_finger, 1.0));
+            }
+        }
+        Self {
+            angles,
+            arm,
+            finger,
+        }
     }
 }
 
-/// Largest turn towards `side` (+1: +x) at wrist `(x, y)` keeping the wrist's corners and
-/// the arm clear (`field`), and stopping where the finger would meet a seen jar (`solid`).
+/// Largest turn towards `side` (+1: +x) at the wrist position of probe lane `lane` and
+/// depth `depth` keeping the wrist's corners and the arm clear (`field`), and stopping
+/// where the finger would meet a seen jar (`solid`).
 pub fn safe_angle(
     g: &PlannerGeometry,
     turns: &TurnProbe,
     field: &ClearanceField,
     solid: &ClearanceField,
-    [x, y]: [f64; 2],
+    [lane, depth]: [usize; 2],
     side: f64,
 ) -> f64 {
     let wrist_radius = 2f64.sqrt() * g.wrist_half_extent + MARGIN + 0.5 * g.cell;
     let arm_room = g.arm_half_width + MARGIN + 0.5 * g.cell;
-    if field.at(x, y) < wrist_radius {
+    if field.at(g.probe_lanes[lane], g.probe_depths[depth]) < wrist_radius {
         return 0.0;
     }
+    let first = if side > 0.0 { turns.angles.len() } else { 0 };
     let mut safe = 0.0;
     // The turn stops at the first angle the arm cannot take, or just after the finger
     // meets a seen jar.
-    let offsets = &turns.offsets[usize::from(side > 0.0)];
-    for (&angle, TurnedHand { arm, finger }) in turns.angles.iter().zip(offsets) {
-        // The arm's points go back out of the cupboard (a turn is under a right angle):
-        // once one is before the field, so are the rest, and all of them are clear.
-        let arm_ok = arm
-            .iter()
-            .map(|&[ox, oy]| (x - ox, y - oy))
-            .take_while(|&(_, ay)| !field.is_before(ay))
-            .all(|(ax, ay)| field.at(ax, ay) >= arm_room || ay <= -g.arm_half_width - g.cell);
+    for (a, &angle) in turns.angles.iter().enumerate() {
+        let (arm, finger) = (&turns.arm[first + a], &turns.finger[first + a]);
+        let (columns, rows) = (&arm.columns[lane], &arm.rows[depth]);
+        let arm_ok = (0..arm.needed[depth]).all(|k| field.at_cell(rows[k], columns[k]) >= arm_room);
         if !arm_ok {
             break;
         }
         safe = angle;
-        let finger_free = finger
-            .iter()
-            .all(|&[ox, oy]| solid.at(x + ox, y + oy) >= 0.5 * g.cell);
+        let (columns, rows) = (&finger.columns[lane], &finger.rows[depth]);
+        let finger_free =
+            (0..columns.len()).all(|k| solid.at_cell(rows[k], columns[k]) >= 0.5 * g.cell);
         if !finger_free {
             break;
         }

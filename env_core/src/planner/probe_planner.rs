@@ -21,7 +21,7 @@
 //! sums and sequences, [`super::numeric`]), so that it makes the same probes.
 
 use super::belief::Belief;
-use super::clearance::{deepest_clear, safe_angle, ClearanceField, TurnProbe};
+use super::clearance::{deepest_clear, safe_angle, ClearanceField, FieldLayout, TurnProbe};
 use super::error::PlannerError;
 use super::geometry::PlannerGeometry;
 use super::numeric::pairwise_sum;
@@ -82,6 +82,7 @@ struct Candidate {
 pub struct ProbePlanner {
     config: EpisodeConfig,
     geometry: PlannerGeometry,
+    layout: FieldLayout,
     turns: TurnProbe,
     belief: Option<Belief>,
     chosen: Option<[i64; 3]>,
@@ -98,9 +99,11 @@ impl ProbePlanner {
             return Err(PlannerError::NeedsProbeActions(config.action_mode.name()));
         }
         let geometry = PlannerGeometry::of(config)?;
+        let layout = FieldLayout::new(&geometry);
         Ok(Self {
             config: config.clone(),
-            turns: TurnProbe::new(&geometry),
+            turns: TurnProbe::new(&geometry, &layout),
+            layout,
             geometry,
             belief: None,
             chosen: None,
@@ -303,20 +306,19 @@ impl ProbePlanner {
                 let probe = &candidate.probe;
                 if wrist != Some([probe.x, probe.y]) {
                     wrist = Some([probe.x, probe.y]);
+                    // The cells some probe at this wrist position may cover, in order.
                     seen_from.clear();
-                    seen_from.extend(
-                        cells.iter().map(|&k| {
-                            FromWrist::new(g, [probe.x, probe.y], [g.xs[k], g.ys[k]], hit)
-                        }),
-                    );
+                    seen_from.extend(cells.iter().filter_map(|&k| {
+                        let from = FromWrist::new(g, [probe.x, probe.y], [g.xs[k], g.ys[k]], hit);
+                        from.may_be_covered(g, hit).then_some((k, from))
+                    }));
                 }
                 covered.clear();
                 covered.extend(
-                    cells
+                    seen_from
                         .iter()
-                        .zip(&seen_from)
                         .filter(|(_, from)| from.covered(g, probe.side, probe.angle, hit))
-                        .map(|(&k, _)| weight[k]),
+                        .map(|&(k, _)| weight[k]),
                 );
                 let score = pairwise_sum(&covered) / (candidate.motions + COST_OFFSET);
                 if score > best_score {
@@ -341,8 +343,8 @@ impl ProbePlanner {
     fn candidates(&self, pose: &Pose) -> Vec<Candidate> {
         let g = &self.geometry;
         let belief = self.belief();
-        let field = ClearanceField::new(g, &belief.blocked(g));
-        let solid = ClearanceField::new(g, &belief.solid(0.0));
+        let field = ClearanceField::new(g, &self.layout, &belief.blocked(g));
+        let solid = ClearanceField::new(g, &self.layout, &belief.solid(0.0));
         let turns = &self.turns;
         let from = HandPose {
             x: pose.x,
@@ -358,7 +360,7 @@ impl ProbePlanner {
                 if y > deepest + 1e-9 {
                     break;
                 }
-                let safe = |side: f64| safe_angle(g, turns, &field, &solid, [x, y], side);
+                let safe = |side: f64| safe_angle(g, turns, &field, &solid, [lane, depth], side);
                 let safe = [safe(-1.0), safe(1.0)];
                 // The motions to this lane and depth, shared by its sweeps.
                 let (approach, reached) = g.controller.approach(from, &Probe { x, y, yaw: 0.0 });
@@ -410,6 +412,13 @@ impl FromWrist {
             .filter(|&rho| rho <= limit)
             .map(|rho| (rho, [(-dx).atan2(dy), dx.atan2(dy)]));
         Self { dx, dy, near }
+    }
+
+    /// Whether some probe at this wrist position may cover the centre: it lies in the lane's
+    /// straight path or within the finger's reach ([`FromWrist::covered`] is false for
+    /// every sweep otherwise).
+    fn may_be_covered(&self, g: &PlannerGeometry, hit: f64) -> bool {
+        (self.dx.abs() <= hit && self.dy <= g.reach + hit) || self.near.is_some()
     }
 
     /// Whether the centre lies within `hit` of the finger's path of a probe at this wrist
