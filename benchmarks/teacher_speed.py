@@ -6,6 +6,9 @@ Rows, each over whole episodes (resets included):
 
 - ``random probes``: one env, one thread, random probes (the environment's own rate);
 - ``core planner``: the same env with the core's planner choosing every probe;
+- ``its probes replayed``: the same env stepping the planner's probes again without it (the
+  environment's own rate on the planner's episodes, which are shorter than random ones, so
+  a reset weighs more per probe);
 - ``python planner``: the Python reference (``agents.scripted.belief_planner``), on fewer
   episodes (it is slow);
 - ``vector random`` and ``vector core planner``: a vector env of ``--num-envs`` episodes on
@@ -35,28 +38,35 @@ SETTINGS = GpisProbePlanner.env_kwargs
 FIRST_LAYOUT = 2**32 + 7
 
 
-def single_env(episodes: int, choose: Callable[[Any], Any] | None) -> tuple[float, int]:
-    """Seconds and probes over ``episodes`` episodes of one env on one thread: random
-    probes, or those of a planner ``choose()`` makes (``reset``/``act``)."""
+def single_env(
+    episodes: int, choose: Callable[[], Any] | None, replay: list[list[Any]] | None = None
+) -> tuple[float, int, list[list[Any]]]:
+    """Seconds, probes and each episode's probes over ``episodes`` episodes of one env on
+    one thread: random probes, those of a planner ``choose()`` makes (``reset``/``act``), or
+    the probes of ``replay`` again (the env alone on a planner's episodes)."""
     env = CupboardSearchEnv(threads=1, **SETTINGS)
     rng = np.random.default_rng(0)
-    probes = 0
+    probes, made = 0, []
     started = time.perf_counter()
+    planner = choose() if choose is not None else None
     for k in range(episodes):
         observation, info = env.reset(seed=FIRST_LAYOUT + k)
-        planner = choose() if choose is not None else None
         if planner is not None:
             planner.reset(env, observation, info)
-        done = False
+        done, episode = False, []
         while not done:
-            if planner is not None:
+            if replay is not None:
+                action = replay[k][len(episode)]
+            elif planner is not None:
                 action = planner.act(observation)
             else:
                 action = rng.integers(env.action_space.nvec)
+            episode.append(action)
             observation, _, terminated, truncated, _ = env.step(action)
             probes += 1
             done = terminated or truncated
-    return time.perf_counter() - started, probes
+        made.append(episode)
+    return time.perf_counter() - started, probes, made
 
 
 def vector_env(num_envs: int, probes: int, planner: bool) -> tuple[float, int]:
@@ -93,10 +103,12 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--num-envs", type=positive_int, default=16)
     parser.add_argument("--vector-probes", type=positive_int, default=4000)
     args = parser.parse_args(argv)
+    *planned, episodes = single_env(args.episodes, GpisProbePlanner)
     rows = {
-        "random probes, one env": single_env(args.episodes, None),
-        "core planner, one env": single_env(args.episodes, GpisProbePlanner),
-        "python planner, one env": single_env(args.python_episodes, BeliefProbePlanner),
+        "random probes, one env": single_env(args.episodes, None)[:2],
+        "core planner, one env": tuple(planned),
+        "its probes replayed, one env": single_env(args.episodes, None, episodes)[:2],
+        "python planner, one env": single_env(args.python_episodes, BeliefProbePlanner)[:2],
         f"vector random, {args.num_envs} envs": vector_env(
             args.num_envs, args.vector_probes, planner=False
         ),
@@ -107,6 +119,7 @@ def main(argv: list[str] | None = None) -> None:
     rates = {name: probes / seconds for name, (seconds, probes) in rows.items()}
     base = {
         "core planner, one env": "random probes, one env",
+        "its probes replayed, one env": "random probes, one env",
         "python planner, one env": "random probes, one env",
         f"vector core planner, {args.num_envs} envs": f"vector random, {args.num_envs} envs",
     }

@@ -28,6 +28,7 @@ class GpisProbePlanner:
 
     def __init__(self) -> None:
         self._core: _core.ProbePlanner | None = None
+        self._core_config: _core.EpisodeConfig | None = None
         self._sizes: tuple[int, ...] = ()
 
     def reset(self, env: CupboardSearchEnv, observation: dict, info: dict) -> None:
@@ -36,7 +37,10 @@ class GpisProbePlanner:
         del info  # the planner reads the observation only
         if "map" not in observation:
             raise ValueError("GpisProbePlanner needs the map observation (map='gpis')")
-        self._core = _core.ProbePlanner(env.config.core, 1)
+        # The core's planner holds the settings' static geometry: made once per settings.
+        if self._core is None or self._core_config != env.config.core:
+            self._core = _core.ProbePlanner(env.config.core, 1)
+            self._core_config = env.config.core
         self._core.reset(0, observation["map"], observation["proprio"])
         config = env.config
         self._sizes = (config.probe_lanes, config.probe_depths, config.probe_sweeps)
