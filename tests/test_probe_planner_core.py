@@ -111,3 +111,20 @@ def test_follow_takes_only_probes_of_the_grid(first) -> None:
     face.reset(env, observation, {})
     with pytest.raises(ValueError, match=r"follow needs a probe \(lane, depth, sweep\) below"):
         face.follow(np.array([0.5, 0, 0]))
+
+
+def test_a_copied_planner_plans_from_its_next_reset(first) -> None:
+    """A runner copies an agent per slot: the copy pickles without the core's planner and
+    makes the same probes from its next reset."""
+    import copy
+    import pickle
+
+    env, observation = first
+    planner = GpisProbePlanner()
+    planner.reset(env, observation, {})
+    probe = planner.act(observation)
+    for clone in (copy.deepcopy(planner), pickle.loads(pickle.dumps(planner))):
+        with pytest.raises(RuntimeError, match="call reset before act"):
+            clone.act(observation)
+        clone.reset(env, observation, {})
+        np.testing.assert_array_equal(clone.act(observation), probe)

@@ -31,6 +31,12 @@ class GpisProbePlanner:
         self._core_config: _core.EpisodeConfig | None = None
         self._sizes: tuple[int, ...] = ()
 
+    def __getstate__(self) -> dict:
+        """A copy (pickled, or deep-copied by a runner giving each slot its own agent)
+        plans from its next ``reset``: the core's planner, which holds the episode's belief,
+        is not copied."""
+        return {**self.__dict__, "_core": None, "_core_config": None}
+
     def reset(self, env: CupboardSearchEnv, observation: dict, info: dict) -> None:
         """Starts an episode of ``env`` (its settings: the GPIS map and the probe action
         mode, else ``ValueError``) from its first ``observation``."""
