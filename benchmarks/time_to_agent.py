@@ -12,7 +12,8 @@ fine-tuning) for one seed of a map's recipe and times each stage as it runs:
 
 It prints each stage's wall-clock and share of the total, and writes them as JSON beside
 the run (``--out``). ``--scale`` shrinks the recipe's episodes and PPO budget by a factor,
-for a quick look; the published figures are at ``--scale 1``::
+for a quick look; the published figures are at ``--scale 1``. ``--imitation KEY=VALUE``
+overrides the recipe's imitation section (a variant's time)::
 
     python -m benchmarks.time_to_agent --map gpis --seed 0 --out /tmp/time_to_agent
 """
@@ -28,6 +29,7 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
+from agents.command_args import parse_setting
 from agents.sb3.recipes import load_hyperparams
 
 #: The stages' rows, in the order a run meets them.
@@ -170,11 +172,20 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--scale", type=float, default=1.0, help="share of the recipe to run")
     parser.add_argument("--out", type=Path, default=Path("runs/time_to_agent"))
+    parser.add_argument(
+        "--imitation",
+        nargs="+",
+        type=parse_setting,
+        default=[],
+        metavar="KEY=VALUE",
+        help="override keys of the recipe's imitation section, as agents.train takes them",
+    )
     args = parser.parse_args(argv)
     if not 0.0 < args.scale <= 1.0:
         parser.error(f"--scale must be in (0, 1], got {args.scale}")
     recipe = load_hyperparams(args.algo, args.map_mode)
     overrides, timesteps = scaled_overrides(recipe, args.scale)
+    overrides.update(dict(args.imitation))
     settings = TrainSettings(
         args.algo,
         args.map_mode,
