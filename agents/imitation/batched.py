@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from agents.imitation.demonstrations import Demonstrations
+from agents.imitation.demonstrations import Demonstrations, episode_rows
 from agents.scripted.gpis_probe_planner import GpisProbePlanner
 from tactile_search import CupboardSearchVectorEnv, _core
 
@@ -47,20 +47,16 @@ class _Episode:
     rewards: list[float] = dataclasses.field(default_factory=list)
 
     def finish(self, gamma: float, info: dict[str, Any], index: int) -> Demonstrations:
-        returns = np.zeros(len(self.rewards), dtype=np.float32)
-        following = 0.0
-        for i in range(len(self.rewards) - 1, -1, -1):
-            following = self.rewards[i] + gamma * following
-            returns[i] = following
-        n = len(self.labels)
-        return Demonstrations(
-            {key: np.stack([o[key] for o in self.observations]) for key in self.observations[0]},
-            np.stack(self.labels).astype(np.int64),
-            returns,
-            np.full(n, self.layout, dtype=np.uint64),
-            np.full(n, bool(info["success"][index])),
-            np.full(n, int(info["tips"][index]), dtype=np.int64),
-            np.arange(n, dtype=np.int64),
+        """The episode's rows, sub-env ``index``'s entries of the last step's ``info``
+        giving its outcome."""
+        return episode_rows(
+            self.observations,
+            self.labels,
+            self.rewards,
+            gamma,
+            self.layout,
+            success=bool(info["success"][index]),
+            tips=int(info["tips"][index]),
         )
 
 
@@ -174,5 +170,4 @@ def _run(
                     progress(1)
         starts = ended.copy()
         if ended.any():
-            observation, fresh = start(ended)
-            teacher_observation = fresh if twin else observation
+            observation, teacher_observation = start(ended)

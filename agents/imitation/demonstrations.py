@@ -229,18 +229,42 @@ def _episode(
             teacher_observation = observation
         rewards.append(float(reward))
         done = terminated or truncated
+    return episode_rows(
+        observations,
+        actions,
+        rewards,
+        gamma,
+        layout_seed,
+        success=bool(info["success"]),
+        tips=int(info["tips"]),
+    )
+
+
+def episode_rows(
+    observations: Sequence[dict[str, np.ndarray]],
+    labels: Sequence[np.ndarray],
+    rewards: Sequence[float],
+    gamma: float,
+    layout_seed: int,
+    *,
+    success: bool,
+    tips: int,
+) -> Demonstrations:
+    """One whole episode's rows: its observations and the teacher's labels per probe, the
+    returns discounted by ``gamma`` from each probe on (the time limit's cut not
+    bootstrapped), and the episode's layout and outcome on every row."""
     returns = np.zeros(len(rewards), dtype=np.float32)
     following = 0.0
     for i in range(len(rewards) - 1, -1, -1):
         following = rewards[i] + gamma * following
         returns[i] = following
-    n = len(actions)
+    n = len(labels)
     return Demonstrations(
         {key: np.stack([o[key] for o in observations]) for key in observations[0]},
-        np.stack(actions).astype(np.int64),
+        np.stack(labels).astype(np.int64),
         returns,
         np.full(n, layout_seed, dtype=np.uint64),
-        np.full(n, bool(info["success"])),
-        np.full(n, int(info["tips"]), dtype=np.int64),
+        np.full(n, success),
+        np.full(n, tips, dtype=np.int64),
         np.arange(n, dtype=np.int64),
     )

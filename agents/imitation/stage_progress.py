@@ -16,9 +16,8 @@ def stage_plan(settings: Any, ppo_timesteps: int | None = None) -> str:
         f"behaviour cloning ({settings.cloning.epochs} epochs)",
     ]
     if settings.dagger_rounds:
-        rounds = "1 DAgger round" if settings.dagger_rounds == 1 else "DAgger rounds"
-        if settings.dagger_rounds > 1:
-            rounds = f"{settings.dagger_rounds} {rounds}"
+        plural = "s" if settings.dagger_rounds > 1 else ""
+        rounds = f"{settings.dagger_rounds} DAgger round{plural}"
         parts.append(
             f"{rounds} ({settings.dagger_episodes:,} episodes, {settings.dagger_epochs} epochs "
             "each)"
