@@ -20,6 +20,8 @@
 //! The rules and their constants are the Python planner's, computed in its order (numpy's
 //! sums and sequences, [`super::numeric`]), so that it makes the same probes.
 
+use std::sync::Arc;
+
 use super::belief::Belief;
 use super::clearance::{deepest_clear, safe_angle, ClearanceField, FieldLayout, TurnProbe};
 use super::error::PlannerError;
@@ -77,15 +79,23 @@ struct Candidate {
     motions: f64,
 }
 
-/// The planner of one episode at a time (see the module docs).
+/// The planner of one episode at a time (see the module docs). Clones share what the
+/// settings fix (a batch's planners build it once).
 #[derive(Debug, Clone)]
 pub struct ProbePlanner {
+    statics: Arc<Statics>,
+    belief: Option<Belief>,
+    chosen: Option<[i64; 3]>,
+}
+
+/// What a planner knows before any episode: the settings and the geometry, clearance grid
+/// and turn tables they fix.
+#[derive(Debug)]
+struct Statics {
     config: EpisodeConfig,
     geometry: PlannerGeometry,
     layout: FieldLayout,
     turns: TurnProbe,
-    belief: Option<Belief>,
-    chosen: Option<[i64; 3]>,
 }
 
 impl ProbePlanner {
@@ -101,10 +111,12 @@ impl ProbePlanner {
         let geometry = PlannerGeometry::of(config)?;
         let layout = FieldLayout::new(&geometry);
         Ok(Self {
-            config: config.clone(),
-            turns: TurnProbe::new(&geometry, &layout),
-            layout,
-            geometry,
+            statics: Arc::new(Statics {
+                config: config.clone(),
+                turns: TurnProbe::new(&geometry, &layout),
+                layout,
+                geometry,
+            }),
             belief: None,
             chosen: None,
         })
@@ -113,7 +125,7 @@ impl ProbePlanner {
     /// Starts an episode from its first observation.
     pub fn reset(&mut self, observation: PlannerObservation<'_>) -> Result<(), PlannerError> {
         let (mean, std) = self.decode_map(observation.map)?;
-        self.belief = Some(Belief::new(&self.geometry, mean, std));
+        self.belief = Some(Belief::new(&self.statics.geometry, mean, std));
         self.chosen = None;
         let pose = self.pose(observation.proprio);
         self.remember_touch(&pose);
@@ -136,14 +148,14 @@ impl ProbePlanner {
         if self.belief.is_none() {
             return Err(PlannerError::NotReset);
         }
-        self.geometry.controller.check(&action)?;
+        self.statics.geometry.controller.check(&action)?;
         self.chosen = Some(action);
         Ok(())
     }
 
     fn decode_map(&self, image: &[u8]) -> Result<(Vec<f64>, Vec<f64>), PlannerError> {
-        let cells = self.geometry.xs.len();
-        let mut channels = decode_image(&self.config.map, cells, image)?.into_iter();
+        let cells = self.statics.geometry.xs.len();
+        let mut channels = decode_image(&self.statics.config.map, cells, image)?.into_iter();
         match (channels.next(), channels.next()) {
             (Some(("mean", mean)), Some(("std", std))) => Ok((mean, std)),
             _ => unreachable!("the gpis map decodes to its mean and std"),
@@ -175,7 +187,7 @@ impl ProbePlanner {
     // -- the observation ---------------------------------------------------------------
 
     fn pose(&self, proprio: &[f32; PROPRIO_LEN]) -> Pose {
-        let decoded = decode_proprio(proprio, &self.config);
+        let decoded = decode_proprio(proprio, &self.statics.config);
         let real = |name: &str| match decoded.iter().find(|(n, _)| *n == name) {
             Some((_, Quantity::Real(value))) => *value,
             _ => unreachable!("{name} is a real quantity of the proprio"),
@@ -209,7 +221,7 @@ impl ProbePlanner {
     /// the finger length, which cuts off contacts near the fingertip; those are put back on
     /// the finger from the unclipped component.
     fn contact_point(&self, wrist: [f64; 2], heading: f64, yaw: f64, offset: [f64; 2]) -> [f64; 2] {
-        let g = &self.geometry;
+        let g = &self.statics.geometry;
         let point = [wrist[0] + offset[0], wrist[1] + offset[1]];
         let clipped = offset.map(|o| o.abs() >= CLIPPED_SHARE * g.finger_length);
         if !clipped[0] && !clipped[1] {
@@ -236,7 +248,7 @@ impl ProbePlanner {
 
     /// Adds a touched jar, or the finger where it is (touching nothing), to the belief.
     fn remember_touch(&mut self, pose: &Pose) {
-        let g = &self.geometry;
+        let g = &self.statics.geometry;
         let forward = PlannerGeometry::forward(pose.yaw);
         let joint = [
             pose.x + g.joint_offset * forward[0],
@@ -262,7 +274,7 @@ impl ProbePlanner {
     /// score counts ([`covers`] at the sweep radius), so a probe that touched nothing
     /// leaves nothing it was chosen for.
     fn sweep_probe_path(&mut self, chosen: [i64; 3], after: &Pose) {
-        let g = &self.geometry;
+        let g = &self.statics.geometry;
         let lane_x = g.probe_lanes[chosen[0] as usize];
         if (after.x - lane_x).abs() > LANE_TOL {
             return; // stopped before reaching its lane (the hand blocked): nothing known
@@ -275,10 +287,8 @@ impl ProbePlanner {
             angle: after.yaw.abs(),
         };
         let hit = Belief::sweep_radius(g);
-        let covered: Vec<(usize, bool)> = (0..g.xs.len())
-            .map(|k| (k, covers(g, &done, [g.xs[k], g.ys[k]], hit)))
-            .collect();
-        self.belief_mut().mark_swept(covered.into_iter());
+        let belief = self.belief.as_mut().expect("reset before use");
+        belief.mark_swept((0..g.xs.len()).map(|k| (k, covers(g, &done, [g.xs[k], g.ys[k]], hit))));
     }
 
     // -- choosing the next probe -------------------------------------------------------
@@ -287,7 +297,7 @@ impl ProbePlanner {
     /// target may hide by the strict conditions, or, when no probe the hand can make covers
     /// any of that, by the relaxed ones.
     fn choose(&self, pose: &Pose) -> [i64; 3] {
-        let g = &self.geometry;
+        let g = &self.statics.geometry;
         let belief = self.belief();
         let candidates = self.candidates(pose);
         // Count what a probe that touches nothing clears from the belief (the cells its
@@ -341,11 +351,15 @@ impl ProbePlanner {
     /// Every grid probe the wrist and arm can make from `pose` without coming near a cell
     /// that may hold a jar, its sweep no wider than the largest safe turn, except a wait.
     fn candidates(&self, pose: &Pose) -> Vec<Candidate> {
-        let g = &self.geometry;
+        let Statics {
+            geometry: g,
+            layout,
+            turns,
+            ..
+        } = &*self.statics;
         let belief = self.belief();
-        let field = ClearanceField::new(g, &self.layout, &belief.blocked(g));
-        let solid = ClearanceField::new(g, &self.layout, &belief.solid(0.0));
-        let turns = &self.turns;
+        let field = ClearanceField::new(g, layout, &belief.blocked(g));
+        let solid = ClearanceField::new(g, layout, &belief.solid(0.0));
         let from = HandPose {
             x: pose.x,
             y: pose.y,
