@@ -55,6 +55,20 @@ def test_a_probes_logits_sit_at_its_joint_index_and_read_its_own_features() -> N
     assert moved.tolist() == [index // 3 == 2 for index in range(18)]
 
 
+def test_the_head_is_its_mlp_on_each_probes_features_beside_the_context() -> None:
+    """The head applies the context's half of its first layer once per sample; that must be
+    the same function as its MLP on every probe's [features, context] concatenation."""
+    torch.manual_seed(0)
+    probes, point_features, global_dim = 12, 6, 10
+    head = SpatialProbeHead(global_dim, probes, point_features, sweeps=4)
+    features = torch.randn(5, global_dim + probes * point_features)
+    context = torch.relu(head.context(features[:, :global_dim]))
+    per_probe = features[:, global_dim:].reshape(5, probes, point_features)
+    both = torch.cat([per_probe, context[:, None, :].expand(-1, probes, -1)], dim=2)
+    expected = head.mlp(both).reshape(5, -1)
+    torch.testing.assert_close(head(features), expected, rtol=1e-5, atol=1e-6)
+
+
 def test_ppo_trains_saves_and_loads_the_spatial_policy(tmp_path: Path) -> None:
     from stable_baselines3 import PPO
 
