@@ -30,7 +30,7 @@ from pathlib import Path
 from typing import Any
 
 from agents.command_args import parse_setting
-from agents.sb3.recipes import load_hyperparams
+from agents.sb3.recipes import algorithm_class, load_hyperparams
 
 #: The stages' rows, in the order a run meets them.
 TEACHER, STUDENT = "teacher", "student policy"
@@ -53,6 +53,17 @@ class StageClock:
         finally:
             self.add(stage, time.perf_counter() - started)
 
+    def call_outside(
+        self, stage: str, inside: list[str], function: Callable[..., Any], args: Any, kwargs: Any
+    ) -> Any:
+        """Calls ``function``, adding its time to ``stage`` less what the ``inside`` stages
+        (timed within the call) took."""
+        before = sum(self.seconds.get(name, 0.0) for name in inside)
+        with self.timing(stage):
+            result = function(*args, **kwargs)
+        self.add(stage, before - sum(self.seconds.get(name, 0.0) for name in inside))
+        return result
+
     def timed(self, stage: Callable[[], str], function: Callable[..., Any]) -> Callable[..., Any]:
         """``function`` with each call's time added to the stage ``stage()`` names then."""
 
@@ -72,9 +83,10 @@ class _TimedPlanner:
             setattr(self, name, clock.timed(row, getattr(planner, name)))
 
 
-def instrument(clock: StageClock) -> contextlib.ExitStack:
-    """Wraps the recipe's stages (the functions ``agents.imitation`` and the PPO stage call)
-    with ``clock``'s timers; closing the stack puts the originals back."""
+def instrument(clock: StageClock, algorithm: type) -> contextlib.ExitStack:
+    """Wraps the recipe's stages (the functions ``agents.imitation`` and the PPO stage call,
+    and ``algorithm``'s rollouts and updates) with ``clock``'s timers; closing the stack puts
+    the originals back."""
     from agents.imitation import batched, clone_stage, demonstrations, training
 
     stack = contextlib.ExitStack()
@@ -97,12 +109,7 @@ def instrument(clock: StageClock) -> contextlib.ExitStack:
             current["rollouts"] = "demonstrations" if index == 0 else f"DAgger round {index}"
             # The teacher's and the student's time inside are rows of their own.
             inside = [row(part)() for part in (TEACHER, STUDENT)]
-            before = sum(clock.seconds.get(name, 0.0) for name in inside)
-            with clock.timing(row("env and rest")()):
-                result = original(*args, **kwargs)
-            spent = sum(clock.seconds.get(name, 0.0) for name in inside) - before
-            clock.add(row("env and rest")(), -spent)
-            return result
+            return clock.call_outside(row("env and rest")(), inside, original, args, kwargs)
 
         return timed
 
@@ -132,7 +139,18 @@ def instrument(clock: StageClock) -> contextlib.ExitStack:
         "ProbePlanner",
         lambda *args: _TimedPlanner(clock, row(TEACHER), original_planner(*args)),
     )
-    patch(clone_stage, "train", clock.timed(lambda: "PPO fine-tuning", clone_stage.train))
+    # PPO's fine-tuning split into its rollouts (the env and the policy's sampling) and its
+    # updates; the rest (callbacks, logging) is a row of its own.
+    ppo_rows = [f"PPO fine-tuning ({part})" for part in ("rollouts", "updates")]
+
+    def fine_tuning(*args: Any, **kwargs: Any) -> Any:
+        rest = "PPO fine-tuning (rest)"
+        return clock.call_outside(rest, ppo_rows, original_train, args, kwargs)
+
+    original_train = clone_stage.train
+    patch(clone_stage, "train", fine_tuning)
+    for method, stage in zip(("collect_rollouts", "train"), ppo_rows, strict=True):
+        patch(algorithm, method, clock.timed(lambda stage=stage: stage, getattr(algorithm, method)))
     for method in ("act", "follow"):
         patch(teacher_class, method, clock.timed(row(TEACHER), getattr(teacher_class, method)))
     return stack
@@ -173,6 +191,18 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--scale", type=float, default=1.0, help="share of the recipe to run")
     parser.add_argument("--out", type=Path, default=Path("runs/time_to_agent"))
     parser.add_argument(
+        "--torch-threads",
+        type=int,
+        default=None,
+        help="torch's threads (default agents.train's); 1 when runs share the cores",
+    )
+    parser.add_argument(
+        "--env-threads",
+        type=int,
+        default=None,
+        help="the environment batch's threads (default every core); 1 when runs share them",
+    )
+    parser.add_argument(
         "--imitation",
         nargs="+",
         type=parse_setting,
@@ -193,12 +223,14 @@ def main(argv: list[str] | None = None) -> None:
         seed=args.seed,
         timesteps=timesteps,
         progress_bar=False,
+        env_threads=args.env_threads,
+        **({} if args.torch_threads is None else {"torch_threads": args.torch_threads}),
     )
     if settings.run_dir.exists():
         parser.error(f"{settings.run_dir} exists: give another --out (the profile starts afresh)")
     clock = StageClock()
     started = time.perf_counter()
-    with instrument(clock):
+    with instrument(clock, algorithm_class(args.algo)):
         run_dir = train_with_clone_stage(settings, overrides)
     total = time.perf_counter() - started
     print(
