@@ -1,11 +1,12 @@
-"""The GPIS probe planner's decisions on pinned validation layouts, for
-``tests/test_probe_planner_core.py``.
+"""The core planners' decisions on pinned validation layouts, for
+``tests/test_probe_planner_core.py`` and ``tests/test_identify_planner_core.py``.
 
-``python tests/planner_decisions.py --out tests/data/probe_planner_decisions.npz`` records
-the Python reference's (``agents.scripted.belief_planner.BeliefProbePlanner``) probes, every
-one of each episode, on ``LAYOUTS``. The test checks that the core's planner and the
-reference both still make them. Re-record only for a change of the planner's rules made on
-purpose, and say why in the commit.
+``python tests/planner_decisions.py --task search --out tests/data/probe_planner_decisions.npz``
+records the Python reference's actions (``agents.scripted.belief_planner.BeliefProbePlanner``;
+``--task identify``: ``agents.scripted.belief_identify.BeliefIdentifyPlanner`` on
+``IDENTIFY_ID``), every one of each episode, on the task's layouts. The tests check that the
+core's planner and the reference both still make them. Re-record only for a change of a
+planner's rules made on purpose, and say why in the commit.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+import gymnasium as gym
 import numpy as np
 
 from tactile_search import CupboardSearchEnv
@@ -27,11 +29,24 @@ LAYOUTS = (
 )
 SETTINGS = {"map": "gpis", "action_mode": "probe"}
 
+IDENTIFY_ID = "tactile_search/IdentifyByTouch-v0"
+#: The identify planner's pinned layouts: the first 24 of the validation range (claims of
+#: the square jar, wrong claims, inspections and time-outs among them).
+IDENTIFY_LAYOUTS = tuple(range(1_000_000, 1_000_024))
 
-def record(make_planner: Callable[[], Any], layouts=LAYOUTS) -> dict[str, np.ndarray]:
-    """Per layout, every probe ``make_planner()`` makes in its episode: ``actions`` (all
-    episodes' probes in order), ``episode_lengths`` and ``layout_seeds``."""
-    env = CupboardSearchEnv(**SETTINGS)
+
+def identify_settings() -> dict[str, Any]:
+    """The identify id's settings in the planner's action mode."""
+    return {**gym.spec(IDENTIFY_ID).kwargs, **SETTINGS}
+
+
+def record(
+    make_planner: Callable[[], Any], layouts=LAYOUTS, settings=None
+) -> dict[str, np.ndarray]:
+    """Per layout, every action ``make_planner()`` makes in its episode of ``settings``
+    (default ``SETTINGS``): ``actions`` (all episodes' actions in order),
+    ``episode_lengths`` and ``layout_seeds``."""
+    env = CupboardSearchEnv(**(SETTINGS if settings is None else settings))
     actions, lengths = [], []
     for layout in layouts:
         observation, info = env.reset(seed=layout)
@@ -51,13 +66,47 @@ def record(make_planner: Callable[[], Any], layouts=LAYOUTS) -> dict[str, np.nda
     }
 
 
+def record_batch(core_class: Any, layouts=LAYOUTS, settings=None) -> dict[str, np.ndarray]:
+    """``record`` by one of the core's planner classes planning every layout's episode at
+    once (``core_class(config, len(layouts))``, acting on every core)."""
+    settings = SETTINGS if settings is None else settings
+    envs = [CupboardSearchEnv(threads=1, **settings) for _ in layouts]
+    planner = core_class(envs[0].config.core, len(envs))
+    observations = [env.reset(seed=layout)[0] for env, layout in zip(envs, layouts, strict=True)]
+    for i, observation in enumerate(observations):
+        planner.reset(i, observation["map"], observation["proprio"])
+    made: list[list[np.ndarray]] = [[] for _ in envs]
+    running = [True] * len(envs)
+    while any(running):
+        actions = planner.act(
+            np.stack([o["map"] for o in observations]),
+            np.stack([o["proprio"] for o in observations]),
+        )
+        assert actions.dtype == np.int64 and actions.shape[0] == len(envs)
+        for i, env in enumerate(envs):
+            if running[i]:
+                made[i].append(actions[i])
+                observations[i], _, terminated, truncated, _ = env.step(actions[i])
+                running[i] = not (terminated or truncated)
+    return {
+        "actions": np.concatenate([np.stack(episode) for episode in made]),
+        "episode_lengths": np.array([len(episode) for episode in made], dtype=np.int64),
+        "layout_seeds": np.array(layouts, dtype=np.int64),
+    }
+
+
 def main() -> None:
-    from agents.scripted import BeliefProbePlanner
+    from agents.scripted import BeliefIdentifyPlanner, BeliefProbePlanner
 
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--task", choices=("search", "identify"), default="search")
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args()
-    np.savez_compressed(args.out, **record(BeliefProbePlanner))
+    if args.task == "search":
+        decisions = record(BeliefProbePlanner)
+    else:
+        decisions = record(BeliefIdentifyPlanner, IDENTIFY_LAYOUTS, identify_settings())
+    np.savez_compressed(args.out, **decisions)
 
 
 if __name__ == "__main__":

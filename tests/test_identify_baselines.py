@@ -29,7 +29,7 @@ from agents.scripted import (
     RandomIdentifyAgent,
     scripted_agents_for,
 )
-from agents.scripted.identify_planner import pair_evidence, shape_verdict
+from agents.scripted.belief_identify import pair_evidence, shape_verdict
 from benchmarks import task_standings
 from tactile_search import ENV_IDS, CupboardSearchEnv
 from tactile_search.envs.observation import PROPRIO

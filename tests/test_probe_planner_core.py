@@ -12,7 +12,7 @@ import pytest
 
 from agents.scripted import BeliefProbePlanner, GpisProbePlanner
 from tactile_search import CupboardSearchEnv, _core
-from tests.planner_decisions import SETTINGS, record
+from tests.planner_decisions import SETTINGS, record, record_batch
 
 PINNED = Path(__file__).parent / "data" / "probe_planner_decisions.npz"
 
@@ -33,29 +33,10 @@ def test_the_core_and_the_python_reference_make_the_pinned_probes(planner, pinne
 def test_a_batch_of_planners_makes_each_episodes_pinned_probes(pinned) -> None:
     """``ProbePlanner(config, n)`` acting on n episodes at once (in parallel) chooses, per
     episode, what one planner alone chooses."""
-    layouts = [int(s) for s in pinned["layout_seeds"]]
-    ends = np.cumsum(pinned["episode_lengths"])
-    expected = np.split(pinned["actions"], ends[:-1])
-    envs = [CupboardSearchEnv(threads=1, **SETTINGS) for _ in layouts]
-    planner = _core.ProbePlanner(envs[0].config.core, len(envs))
-    observations = [env.reset(seed=layout)[0] for env, layout in zip(envs, layouts, strict=True)]
-    for i, observation in enumerate(observations):
-        planner.reset(i, observation["map"], observation["proprio"])
-    made: list[list[np.ndarray]] = [[] for _ in envs]
-    running = [True] * len(envs)
-    while any(running):
-        probes = planner.act(
-            np.stack([o["map"] for o in observations]),
-            np.stack([o["proprio"] for o in observations]),
-        )
-        assert probes.dtype == np.int64 and probes.shape == (len(envs), 3)
-        for i, env in enumerate(envs):
-            if running[i]:
-                made[i].append(probes[i])
-                observations[i], _, terminated, truncated, _ = env.step(probes[i])
-                running[i] = not (terminated or truncated)
-    for episode, (mine, theirs) in enumerate(zip(made, expected, strict=True)):
-        np.testing.assert_array_equal(np.stack(mine), theirs, err_msg=f"layout {layouts[episode]}")
+    made = record_batch(_core.ProbePlanner, tuple(int(s) for s in pinned["layout_seeds"]))
+    assert made["actions"].shape[1] == 3
+    np.testing.assert_array_equal(made["episode_lengths"], pinned["episode_lengths"])
+    np.testing.assert_array_equal(made["actions"], pinned["actions"])
 
 
 @pytest.fixture(scope="module")

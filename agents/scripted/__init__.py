@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from agents.rollout import Agent
+from agents.scripted.belief_identify import BeliefIdentifyPlanner
 from agents.scripted.belief_planner import BeliefProbePlanner
 from agents.scripted.gpis_probe_planner import GpisProbePlanner
 from agents.scripted.identify_planner import IdentifyPlanner
@@ -59,6 +60,7 @@ __all__ = [
     "SCRIPTED_AGENTS",
     "SCRIPTED_TASKS",
     "Agent",
+    "BeliefIdentifyPlanner",
     "BeliefProbePlanner",
     "GpisProbePlanner",
     "IdentifyPlanner",

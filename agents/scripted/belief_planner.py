@@ -37,8 +37,8 @@ from typing import Any, ClassVar
 import numpy as np
 
 from agents.scripted.clearance import ClearanceField, deepest_clear, safe_angle
+from agents.scripted.core_planner import probe_indices
 from agents.scripted.geometry import Geometry
-from agents.scripted.gpis_probe_planner import probe_indices
 from agents.scripted.search_map import SearchMap
 from tactile_search import CupboardSearchEnv
 from tactile_search.envs.observation import PROPRIO

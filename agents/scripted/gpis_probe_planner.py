@@ -2,79 +2,22 @@
 truth, choosing the probes of the core's probe action mode, and the teacher every recipe
 clones.
 
-A thin face over the core's planner (``tactile_search._core.ProbePlanner``; its rules are
-documented in ``env_core/src/planner/probe_planner.rs``): the core keeps the belief and
-chooses the probes, from the env's settings and the observations alone. The planner runs
-as an agent of one episode (``reset``, ``act``, ``follow``, as every scripted agent and
-teacher does); ``ProbePlanner(config, n)`` plans for a batch of ``n`` episodes at once, on
-every core (``benchmarks.teacher_speed`` runs it over a vector env).
+A thin face (``agents.scripted.core_planner``) over the core's planner
+(``tactile_search._core.ProbePlanner``; its rules are documented in
+``env_core/src/planner/probe_planner.rs``).
 """
 
 from __future__ import annotations
 
-from typing import ClassVar
+from typing import Any, ClassVar
 
-import numpy as np
+from agents.scripted.core_planner import CorePlannerFace
+from tactile_search import _core
 
-from tactile_search import CupboardSearchEnv, _core
 
-
-class GpisProbePlanner:
-    """The GPIS-map searcher choosing the core's probes; see the module docstring."""
+class GpisProbePlanner(CorePlannerFace):
+    """The GPIS-map searcher choosing the core's probes; see the module docstring. Its
+    actions are ``(lane, depth, sweep)``."""
 
     name = "gpis_probe_planner"
-    #: The settings of the env it runs on (an evaluation builds it with these).
-    env_kwargs: ClassVar[dict[str, str]] = {"map": "gpis", "action_mode": "probe"}
-
-    def __init__(self) -> None:
-        self._core: _core.ProbePlanner | None = None
-        self._core_config: _core.EpisodeConfig | None = None
-        self._sizes: tuple[int, ...] = ()
-
-    def __getstate__(self) -> dict:
-        """A copy (pickled, or deep-copied by a runner giving each slot its own agent)
-        plans from its next ``reset``: the core's planner, which holds the episode's belief,
-        is not copied."""
-        return {**self.__dict__, "_core": None, "_core_config": None}
-
-    def reset(self, env: CupboardSearchEnv, observation: dict, info: dict) -> None:
-        """Starts an episode of ``env`` (its settings: the GPIS map and the probe action
-        mode, else ``ValueError``) from its first ``observation``."""
-        del info  # the planner reads the observation only
-        if "map" not in observation:
-            raise ValueError("GpisProbePlanner needs the map observation (map='gpis')")
-        # The core's planner holds the settings' static geometry: made once per settings.
-        if self._core is None or self._core_config != env.config.core:
-            self._core = _core.ProbePlanner(env.config.core, 1)
-            self._core_config = env.config.core
-        self._core.reset(0, observation["map"], observation["proprio"])
-        config = env.config
-        self._sizes = (config.probe_lanes, config.probe_depths, config.probe_sweeps)
-
-    def act(self, observation: dict) -> np.ndarray:
-        """The next probe ``(lane, depth, sweep)`` after ``observation``."""
-        if self._core is None:
-            raise RuntimeError("call reset before act")
-        return self._core.act(observation["map"][None], observation["proprio"][None])[0]
-
-    def follow(self, action: np.ndarray) -> None:
-        """Takes ``action``, not the probe ``act`` just chose, as the probe the env carries
-        out next: the planner then labels states another agent visits (DAgger), its belief
-        learning from the probes that agent made. Raises ``ValueError`` for an action that is
-        not a probe of the grid."""
-        if self._core is None:
-            raise RuntimeError("call reset before follow")
-        self._core.follow(0, list(probe_indices(action, self._sizes)))
-
-
-def probe_indices(action: np.ndarray, sizes: tuple[int, ...]) -> tuple[int, int, int]:
-    """``action`` as a probe's ``(lane, depth, sweep)`` indices below ``sizes``;
-    ``ValueError`` naming the grid for anything else (a float index, one out of range, a
-    shape other than three)."""
-    indices = np.asarray(action).reshape(-1)
-    if indices.shape != (3,) or any(
-        not float(i).is_integer() or not 0 <= i < n for i, n in zip(indices, sizes, strict=True)
-    ):
-        raise ValueError(f"follow needs a probe (lane, depth, sweep) below {sizes}, got {action!r}")
-    lane, depth, sweep = (int(i) for i in indices)
-    return lane, depth, sweep
+    core_class: ClassVar[Any] = _core.ProbePlanner

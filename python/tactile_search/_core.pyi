@@ -598,6 +598,20 @@ class ProbePlanner:
     def follow(self, index: int, action: Any) -> None:
         """Episode ``index``'s env carries out ``action`` instead of the chosen probe."""
 
+class IdentifyPlanner:
+    """The identify task's planner of ``num_envs`` episodes of ``config`` (task ``identify``
+    with a square target, map ``gpis``, action mode ``probe``): it reads the observations
+    and the settings, nothing else."""
+
+    def __init__(self, config: EpisodeConfig, num_envs: int) -> None: ...
+    def __len__(self) -> int: ...
+    def reset(self, index: int, map: NDArray[np.uint8], proprio: NDArray[np.float32]) -> None:
+        """Starts episode ``index`` from its first observation."""
+    def act(self, maps: NDArray[np.uint8], proprio: NDArray[np.float32]) -> NDArray[np.int64]:
+        """Every episode's next action ``(n, 4)``: lane, depth, sweep, claim."""
+    def follow(self, index: int, probe: Any) -> None:
+        """Episode ``index``'s env carries out ``probe`` instead of the chosen action."""
+
 class Observations:
     """GP observations in the order they enter a map (from ``depth_prior``)."""
 

@@ -11,7 +11,7 @@
 //! - [`geometry`], [`prior`]: the core's geometry, metrics and depth prior as functions,
 //!   so experiments run what the environment runs.
 //! - one file per class: [`gpis`] (`GpisCore`), [`scene`] (`Scene`), [`episode`]
-//!   (`EpisodeBatch`), [`planner`] (`ProbePlanner`).
+//!   (`EpisodeBatch`), [`planner`] (`ProbePlanner`, `IdentifyPlanner`).
 
 mod actions;
 mod arrays;
@@ -52,6 +52,7 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<episode_config::PyEpisodeConfig>()?;
     m.add_class::<episode::PyEpisodeBatch>()?;
     m.add_class::<planner::PyProbePlanner>()?;
+    m.add_class::<planner::PyIdentifyPlanner>()?;
     geometry::register(m)?;
     prior::register(m)?;
     m.add_function(wrap_pyfunction!(observation::observation_layout, m)?)?;

@@ -1,5 +1,6 @@
-//! `ProbePlanner`: the core's GPIS probe planner ([`crate::planner`]) over a batch of
-//! episodes, one planner per episode, acting on every core with the GIL released.
+//! The core's planners ([`crate::planner`]) over a batch of episodes, one planner per
+//! episode, acting on every core with the GIL released: `ProbePlanner` (the GPIS probe
+//! planner) and `IdentifyPlanner` (the identify task's).
 
 use numpy::{Element, PyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -9,7 +10,9 @@ use super::episode_config::episode_config_of;
 use super::errors::{episode_index_error, wrong_shape, wrong_value};
 use super::exclusive::Exclusive;
 use crate::episode::{EpisodeConfig, PROPRIO_LEN};
-use crate::planner::{act_batch, PlannerError, PlannerObservation, ProbePlanner};
+use crate::planner::{
+    act_batch, IdentifyPlanner, Planner, PlannerError, PlannerObservation, ProbePlanner,
+};
 use crate::settings::Checked;
 
 impl From<PlannerError> for PyErr {
@@ -23,22 +26,11 @@ impl From<PlannerError> for PyErr {
     }
 }
 
-/// The GPIS probe planner of `num_envs` episodes of `config` (the GPIS map, the `probe`
-/// action mode): per episode, `reset` with its first observation, then `act` on the
-/// observations after each probe (and `follow` when the env carries out another probe
-/// than the one chosen). It reads the observations and the settings, nothing else.
-#[pyclass(name = "ProbePlanner", module = "tactile_search._core", frozen)]
-pub struct PyProbePlanner {
+/// `num_envs` planners of episodes of one configuration, behind a lock (what both Python
+/// classes hold).
+struct PlannerBatch<P> {
     config: Checked<EpisodeConfig>,
-    planners: Exclusive<Vec<ProbePlanner>>,
-}
-
-impl PyProbePlanner {
-    fn map_shape(&self) -> [usize; 3] {
-        let channels = self.config.map.mode.kind().channels.len();
-        let (h, w) = self.config.map.grid_shape;
-        [channels, h, w]
-    }
+    planners: Exclusive<Vec<P>>,
 }
 
 /// The rows of `value`, an array of dtype `T` and shape `(n, *row)`: `n` and the values in
@@ -60,28 +52,34 @@ fn rows_of<T: Element + Copy>(
     Ok((shape[0], values_of(what, array)?))
 }
 
-#[pymethods]
-impl PyProbePlanner {
-    #[new]
-    fn new(config: &Bound<'_, PyAny>, num_envs: usize) -> PyResult<Self> {
+impl<P: Planner + Clone> PlannerBatch<P> {
+    fn new(
+        name: &'static str,
+        config: &Bound<'_, PyAny>,
+        num_envs: usize,
+        make: impl FnOnce(&EpisodeConfig) -> Result<P, PlannerError>,
+    ) -> PyResult<Self> {
         let config = episode_config_of(config)?;
         if num_envs == 0 {
             return Err(wrong_value("num_envs", "at least 1", num_envs));
         }
-        let planner = ProbePlanner::new(&config)?;
+        let planner = make(&config)?;
         Ok(Self {
             config,
-            planners: Exclusive::new("ProbePlanner", vec![planner; num_envs]),
+            planners: Exclusive::new(name, vec![planner; num_envs]),
         })
     }
 
-    /// How many episodes it plans for.
-    fn __len__(&self) -> PyResult<usize> {
+    fn map_shape(&self) -> [usize; 3] {
+        let channels = self.config.map.mode.kind().channels.len();
+        let (h, w) = self.config.map.grid_shape;
+        [channels, h, w]
+    }
+
+    fn len(&self) -> PyResult<usize> {
         Ok(self.planners.lock()?.len())
     }
 
-    /// Starts episode `index` from its first observation: `map` `(C, H, W)` uint8 and
-    /// `proprio` `(11,)` float32.
     fn reset(
         &self,
         py: Python<'_>,
@@ -106,9 +104,6 @@ impl PyProbePlanner {
         Ok(())
     }
 
-    /// Every episode's next probe for its observation after the last probe: `maps`
-    /// `(n, C, H, W)` uint8 and `proprio` `(n, 11)` float32, one row per episode; an
-    /// `(n, 3)` int64 array of (lane, depth, sweep). The planners run in parallel.
     fn act<'py>(
         &self,
         py: Python<'py>,
@@ -134,23 +129,124 @@ impl PyProbePlanner {
                 proprio: row.try_into().expect("rows of PROPRIO_LEN"),
             })
             .collect();
-        let batch: &mut [ProbePlanner] = &mut planners;
-        let probes = py.detach(|| act_batch(batch, &observations))?;
+        let batch: &mut [P] = &mut planners;
+        let actions = py.detach(|| act_batch(batch, &observations))?;
         Ok(PyArray2::from_vec2(
             py,
-            &probes.iter().map(|p| p.to_vec()).collect::<Vec<_>>(),
+            &actions
+                .iter()
+                .map(|a| a.as_ref().to_vec())
+                .collect::<Vec<_>>(),
         )?)
     }
 
-    /// Tells episode `index`'s planner that the env carries out `action` (lane, depth,
-    /// sweep), not the probe it chose: its belief then learns from that probe.
-    fn follow(&self, index: usize, action: [i64; 3]) -> PyResult<()> {
+    fn follow(&self, index: usize, probe: [i64; 3]) -> PyResult<()> {
         let mut planners = self.planners.lock()?;
         let len = planners.len();
         let planner = planners
             .get_mut(index)
             .ok_or_else(|| episode_index_error(index, len))?;
-        planner.follow(action)?;
+        planner.follow(probe)?;
         Ok(())
+    }
+}
+
+/// The GPIS probe planner of `num_envs` episodes of `config` (the GPIS map, the `probe`
+/// action mode): per episode, `reset` with its first observation, then `act` on the
+/// observations after each probe (and `follow` when the env carries out another probe
+/// than the one chosen). It reads the observations and the settings, nothing else.
+#[pyclass(name = "ProbePlanner", module = "tactile_search._core", frozen)]
+pub struct PyProbePlanner(PlannerBatch<ProbePlanner>);
+
+#[pymethods]
+impl PyProbePlanner {
+    #[new]
+    fn new(config: &Bound<'_, PyAny>, num_envs: usize) -> PyResult<Self> {
+        PlannerBatch::new("ProbePlanner", config, num_envs, ProbePlanner::new).map(Self)
+    }
+
+    /// How many episodes it plans for.
+    fn __len__(&self) -> PyResult<usize> {
+        self.0.len()
+    }
+
+    /// Starts episode `index` from its first observation: `map` `(C, H, W)` uint8 and
+    /// `proprio` `(11,)` float32.
+    fn reset(
+        &self,
+        py: Python<'_>,
+        index: usize,
+        map: &Bound<'_, PyAny>,
+        proprio: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
+        self.0.reset(py, index, map, proprio)
+    }
+
+    /// Every episode's next probe for its observation after the last probe: `maps`
+    /// `(n, C, H, W)` uint8 and `proprio` `(n, 11)` float32, one row per episode; an
+    /// `(n, 3)` int64 array of (lane, depth, sweep). The planners run in parallel.
+    fn act<'py>(
+        &self,
+        py: Python<'py>,
+        maps: &Bound<'py, PyAny>,
+        proprio: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        self.0.act(py, maps, proprio)
+    }
+
+    /// Tells episode `index`'s planner that the env carries out `action` (lane, depth,
+    /// sweep), not the probe it chose: its belief then learns from that probe.
+    fn follow(&self, index: usize, action: [i64; 3]) -> PyResult<()> {
+        self.0.follow(index, action)
+    }
+}
+
+/// The identify task's planner of `num_envs` episodes of `config` (the identify task with a
+/// square target, the GPIS map, the `probe` action mode): the GPIS probe planner's search,
+/// the touched jars' shapes told from their contacts, and the claim. Used as
+/// `ProbePlanner` is; its actions are (lane, depth, sweep, claim).
+#[pyclass(name = "IdentifyPlanner", module = "tactile_search._core", frozen)]
+pub struct PyIdentifyPlanner(PlannerBatch<IdentifyPlanner>);
+
+#[pymethods]
+impl PyIdentifyPlanner {
+    #[new]
+    fn new(config: &Bound<'_, PyAny>, num_envs: usize) -> PyResult<Self> {
+        PlannerBatch::new("IdentifyPlanner", config, num_envs, IdentifyPlanner::new).map(Self)
+    }
+
+    /// How many episodes it plans for.
+    fn __len__(&self) -> PyResult<usize> {
+        self.0.len()
+    }
+
+    /// Starts episode `index` from its first observation: `map` `(C, H, W)` uint8 and
+    /// `proprio` `(11,)` float32.
+    fn reset(
+        &self,
+        py: Python<'_>,
+        index: usize,
+        map: &Bound<'_, PyAny>,
+        proprio: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
+        self.0.reset(py, index, map, proprio)
+    }
+
+    /// Every episode's next action for its observation after the last probe: `maps`
+    /// `(n, C, H, W)` uint8 and `proprio` `(n, 11)` float32, one row per episode; an
+    /// `(n, 4)` int64 array of (lane, depth, sweep, claim). The planners run in parallel.
+    fn act<'py>(
+        &self,
+        py: Python<'py>,
+        maps: &Bound<'py, PyAny>,
+        proprio: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        self.0.act(py, maps, proprio)
+    }
+
+    /// Tells episode `index`'s planner that the env carries out the probe `probe` (lane,
+    /// depth, sweep), not the action it chose: its belief then learns from that probe.
+    fn follow(&self, index: usize, probe: [i64; 3]) -> PyResult<()> {
+        self.0.follow(index, probe)
     }
 }

@@ -72,6 +72,12 @@ impl Belief {
         self.std = std;
     }
 
+    /// Per cell, the range behind the nearest surface the camera saw on its ray (−∞ where
+    /// the ray met none).
+    pub fn behind(&self) -> &[f64] {
+        &self.behind
+    }
+
     /// Cells the map is confident are inside or on a jar (mean below `level`).
     pub fn solid(&self, level: f64) -> Vec<bool> {
         solid_cells(&self.mean, &self.std, level)

@@ -14,6 +14,19 @@ pub enum PlannerError {
     /// The planner chooses probes.
     #[error("the GPIS probe planner needs action_mode='probe', got action_mode='{0}'")]
     NeedsProbeActions(&'static str),
+    /// A planner for one task, given the settings of another.
+    #[error("the {planner} planner needs task='{task}', got task='{got}'")]
+    NeedsTask {
+        /// The planner.
+        planner: &'static str,
+        /// The task it plans for.
+        task: &'static str,
+        /// The settings' task.
+        got: &'static str,
+    },
+    /// The identify planner claims the square jar.
+    #[error("the identify planner claims the square jar: it needs target_shape='square', got target_shape='{0}'")]
+    NeedsSquareTarget(&'static str),
     /// `act` or `follow` before the episode's first observation.
     #[error("the planner has no episode: reset it with the episode's first observation")]
     NotReset,

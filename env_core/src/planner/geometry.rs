@@ -13,6 +13,7 @@ pub struct PlannerGeometry {
     pub arm_length: f64,
     pub arm_half_width: f64,
     pub finger_length: f64,
+    pub finger_half_thickness: f64,
     pub joint_offset: f64,
     pub reach: f64,
     pub jar_radius: [f64; 2],
@@ -30,6 +31,8 @@ pub struct PlannerGeometry {
     pub probe_lanes: Vec<f64>,
     pub probe_depths: Vec<f64>,
     pub probe_yaws: Vec<f64>,
+    /// The wrist's y the probe controller backs out to before changing lanes.
+    pub probe_outside: f64,
     /// The probe controller's turn per motion while sweeping, rad.
     pub probe_sweep_rate: f64,
     /// The largest sweep angle either way, rad.
@@ -65,6 +68,7 @@ impl PlannerGeometry {
             arm_length: g.arm_length,
             arm_half_width: g.arm_half_width,
             finger_length: g.finger_length,
+            finger_half_thickness: g.finger_half_thickness,
             joint_offset: g.joint_offset,
             reach: g.reach,
             jar_radius: g.jar_radius,
@@ -77,6 +81,7 @@ impl PlannerGeometry {
             probe_lanes: g.probes.lanes,
             probe_depths: g.probes.depths,
             probe_yaws: g.probes.yaws,
+            probe_outside: g.probes.outside,
             probe_sweep_rate: g.probes.sweep_rate,
             probe_max_angle: config.probe.max_angle,
             controller: ProbeController::for_episode(config),

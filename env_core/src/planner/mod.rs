@@ -3,9 +3,12 @@
 //!
 //! - [`probe_planner`]: the GPIS probe planner ([`ProbePlanner`]), the teacher of every
 //!   search recipe, built on its [`belief`] and the [`clearance`] queries.
+//! - [`identify_planner`]: the identify task's planner ([`IdentifyPlanner`]): the search
+//!   planner's probes, its touched jars' shapes told from their contacts, and the claim.
 //! - [`distance`], [`numeric`]: the capped distance transform and numpy's float order the
 //!   rules were chosen with.
-//! - [`act_batch`]: one probe per episode of a batch, the planners run on every core.
+//! - [`Planner`], [`act_batch`]: what a planner is to its callers, and one action per
+//!   episode of a batch, the planners run on every core.
 //!
 //! A planner is given the episode configuration (the static geometry it may know) and then
 //! observations alone: the map image and the proprio vector. It has no way to read the
@@ -17,9 +20,11 @@ mod clearance;
 mod distance;
 mod error;
 mod geometry;
+pub mod identify_planner;
 mod numeric;
 pub mod probe_planner;
 
-pub use batch::act_batch;
+pub use batch::{act_batch, Planner};
 pub use error::PlannerError;
+pub use identify_planner::IdentifyPlanner;
 pub use probe_planner::{PlannerObservation, ProbePlanner};

@@ -53,30 +53,47 @@ pub struct PlannerObservation<'a> {
 
 /// The wrist's pose and the touch, as decoded from the proprio vector.
 #[derive(Debug, Clone, Copy)]
-struct Pose {
-    x: f64,
-    y: f64,
-    yaw: f64,
-    deflection: f64,
+pub(super) struct Pose {
+    pub x: f64,
+    pub y: f64,
+    pub yaw: f64,
+    pub deflection: f64,
     /// The contact point and the touched jar's outward normal, when the finger touches.
-    contact: Option<([f64; 2], [f64; 2])>,
+    pub contact: Option<([f64; 2], [f64; 2])>,
+    /// Whether the contact point is where the finger touched (false where the observation
+    /// clipped its offset and [`ContactRule::FingerSide`] could not put it back).
+    pub sure: bool,
+}
+
+/// How a contact whose offset the observation clipped (near the fingertip) is put back on
+/// the finger.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum ContactRule {
+    /// On the finger's centre line, from the first unclipped component that says enough of
+    /// the distance along it (else at the tip). The search planner's rule.
+    FingerAxis,
+    /// On the side of the finger that touches (half its thickness from the centre line,
+    /// against the normal), from the unclipped component; where that says little (or both
+    /// are clipped) the contact is [`FingerAxis`](ContactRule::FingerAxis)'s and not sure.
+    /// The identify planner's rule: a shape is told from its contacts' points.
+    FingerSide,
 }
 
 /// A probe as its finger path: in along lane `x` to wrist depth `y`, then a turn of
 /// `angle` rad towards `side` (+1: +x).
 #[derive(Debug, Clone, Copy)]
-struct SweptProbe {
-    x: f64,
-    y: f64,
-    side: f64,
-    angle: f64,
+pub(super) struct SweptProbe {
+    pub x: f64,
+    pub y: f64,
+    pub side: f64,
+    pub angle: f64,
 }
 
 /// A probe the hand can make, with the motions the controller takes to make it.
-struct Candidate {
-    action: [i64; 3],
-    probe: SweptProbe,
-    motions: f64,
+pub(super) struct Candidate {
+    pub action: [i64; 3],
+    pub probe: SweptProbe,
+    pub motions: f64,
 }
 
 /// The planner of one episode at a time (see the module docs). Clones share what the
@@ -84,6 +101,7 @@ struct Candidate {
 #[derive(Debug, Clone)]
 pub struct ProbePlanner {
     statics: Arc<Statics>,
+    contact_rule: ContactRule,
     belief: Option<Belief>,
     chosen: Option<[i64; 3]>,
 }
@@ -102,6 +120,14 @@ impl ProbePlanner {
     /// The planner of episodes of `config`, which must have the GPIS map and the `probe`
     /// action mode.
     pub fn new(config: &EpisodeConfig) -> Result<Self, PlannerError> {
+        Self::with_contact_rule(config, ContactRule::FingerAxis)
+    }
+
+    /// [`ProbePlanner::new`] putting clipped contacts back by `contact_rule`.
+    pub(super) fn with_contact_rule(
+        config: &EpisodeConfig,
+        contact_rule: ContactRule,
+    ) -> Result<Self, PlannerError> {
         if config.map.mode != MapMode::Gpis {
             return Err(PlannerError::NeedsGpisMap(config.map.mode.name()));
         }
@@ -117,6 +143,7 @@ impl ProbePlanner {
                 layout,
                 geometry,
             }),
+            contact_rule,
             belief: None,
             chosen: None,
         })
@@ -162,7 +189,22 @@ impl ProbePlanner {
         }
     }
 
-    fn observe(&mut self, observation: PlannerObservation<'_>) -> Result<Pose, PlannerError> {
+    /// The geometry of the settings the planner was made for.
+    pub(super) fn geometry(&self) -> &PlannerGeometry {
+        &self.statics.geometry
+    }
+
+    /// The probe the env carries out next (the planner's own choice or one it follows).
+    pub(super) fn set_chosen(&mut self, chosen: [i64; 3]) {
+        self.chosen = Some(chosen);
+    }
+
+    /// Takes `observation` into the belief (the map, the last probe's swept path, the
+    /// touch) and returns the wrist's pose.
+    pub(super) fn observe(
+        &mut self,
+        observation: PlannerObservation<'_>,
+    ) -> Result<Pose, PlannerError> {
         if self.belief.is_none() {
             return Err(PlannerError::NotReset);
         }
@@ -176,7 +218,7 @@ impl ProbePlanner {
         Ok(pose)
     }
 
-    fn belief(&self) -> &Belief {
+    pub(super) fn belief(&self) -> &Belief {
         self.belief.as_ref().expect("reset before use")
     }
 
@@ -203,10 +245,19 @@ impl ProbePlanner {
             proprio[crate::episode::observation::proprio_index(name).expect("an entry")]
         };
         let yaw = f64::from(entry("sin_yaw").atan2(entry("cos_yaw")));
+        let mut sure = touching;
         let contact = touching.then(|| {
             let offset = [real("contact_dx"), real("contact_dy")];
-            let point = self.contact_point([x, y], yaw + deflection, yaw, offset);
-            (point, [real("normal_x"), real("normal_y")])
+            let normal = [real("normal_x"), real("normal_y")];
+            let on_axis = self.contact_point([x, y], yaw + deflection, yaw, offset);
+            let point = match self.contact_rule {
+                ContactRule::FingerAxis => Some(on_axis),
+                ContactRule::FingerSide => {
+                    self.contact_on_side([x, y], yaw + deflection, yaw, offset, normal)
+                }
+            };
+            sure = point.is_some();
+            (point.unwrap_or(on_axis), normal)
         });
         Pose {
             x,
@@ -214,7 +265,45 @@ impl ProbePlanner {
             yaw,
             deflection,
             contact,
+            sure,
         }
+    }
+
+    /// [`ContactRule::FingerSide`]'s contact point: the offset itself when neither
+    /// component was clipped; else on the touching side of the finger, solved from the
+    /// first unclipped component if the finger's direction has at least
+    /// `WELL_CONDITIONED` of it; else None (the point is unsure).
+    fn contact_on_side(
+        &self,
+        wrist: [f64; 2],
+        heading: f64,
+        yaw: f64,
+        offset: [f64; 2],
+        normal: [f64; 2],
+    ) -> Option<[f64; 2]> {
+        const WELL_CONDITIONED: f64 = 0.3;
+        let g = &self.statics.geometry;
+        let clipped = offset.map(|o| o.abs() >= CLIPPED_SHARE * g.finger_length);
+        if !clipped[0] && !clipped[1] {
+            return Some([wrist[0] + offset[0], wrist[1] + offset[1]]);
+        }
+        let axis = if clipped[0] { 1 } else { 0 };
+        let direction = PlannerGeometry::forward(heading);
+        if clipped[0] && clipped[1] || direction[axis].abs() < WELL_CONDITIONED {
+            return None;
+        }
+        let forward = PlannerGeometry::forward(yaw);
+        let joint = [
+            wrist[0] + g.joint_offset * forward[0],
+            wrist[1] + g.joint_offset * forward[1],
+        ];
+        let side = normal.map(|n| -g.finger_half_thickness * n);
+        let along = (wrist[axis] + offset[axis] - joint[axis] - side[axis]) / direction[axis];
+        let along = along.clamp(0.0, g.finger_length);
+        Some([
+            joint[0] + along * direction[0] + side[0],
+            joint[1] + along * direction[1] + side[1],
+        ])
     }
 
     /// The contact point from its offset to the wrist. The observation clips the offset at
@@ -296,7 +385,7 @@ impl ProbePlanner {
     /// The grid probe with the most hiding weight under its finger per motion: where the
     /// target may hide by the strict conditions, or, when no probe the hand can make covers
     /// any of that, by the relaxed ones.
-    fn choose(&self, pose: &Pose) -> [i64; 3] {
+    pub(super) fn choose(&self, pose: &Pose) -> [i64; 3] {
         let g = &self.statics.geometry;
         let belief = self.belief();
         let candidates = self.candidates(pose);
@@ -351,6 +440,13 @@ impl ProbePlanner {
     /// Every grid probe the wrist and arm can make from `pose` without coming near a cell
     /// that may hold a jar, its sweep no wider than the largest safe turn, except a wait.
     fn candidates(&self, pose: &Pose) -> Vec<Candidate> {
+        self.clear_probes(pose, &self.belief().solid(0.0))
+    }
+
+    /// [`ProbePlanner::candidates`] with the cells the finger must not sweep into given
+    /// (`solid_cells`, a mask of the map's cells): every grid probe clear of them and of
+    /// every cell that may hold a jar for the wrist and arm, except a wait.
+    pub(super) fn clear_probes(&self, pose: &Pose, solid_cells: &[bool]) -> Vec<Candidate> {
         let Statics {
             geometry: g,
             layout,
@@ -359,7 +455,7 @@ impl ProbePlanner {
         } = &*self.statics;
         let belief = self.belief();
         let field = ClearanceField::new(g, layout, &belief.blocked(g));
-        let solid = ClearanceField::new(g, layout, &belief.solid(0.0));
+        let solid = ClearanceField::new(g, layout, solid_cells);
         let from = HandPose {
             x: pose.x,
             y: pose.y,
