@@ -19,21 +19,10 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from agents.scripted import (
-    BeliefIdentifyPlanner,
-    BeliefProbePlanner,
-    GpisProbePlanner,
-    IdentifyPlanner,
-)
+from agents.scripted import CORE_PLANNERS, GpisProbePlanner
 from benchmarks.arguments import positive_int
 from tactile_search import ENV_ID, CupboardSearchEnv
 from tactile_search.seed_ranges import VALIDATION
-
-#: Per task: the core's planner and its Python reference.
-PLANNERS = {
-    "search": (GpisProbePlanner, BeliefProbePlanner),
-    "identify": (IdentifyPlanner, BeliefIdentifyPlanner),
-}
 
 
 def episode(planner: Any, env: CupboardSearchEnv, layout: int) -> dict[str, Any]:
@@ -61,9 +50,9 @@ def main(argv: list[str] | None = None) -> None:
     settings = {**gym.spec(args.env_id).kwargs, **GpisProbePlanner.env_kwargs}
     core_env, reference_env = CupboardSearchEnv(**settings), CupboardSearchEnv(**settings)
     task = core_env.config.task
-    if task not in PLANNERS:
-        parser.error(f"--env-id must be of a task in {sorted(PLANNERS)}, got {task!r}")
-    core_planner, reference_planner = PLANNERS[task]
+    if task not in CORE_PLANNERS:
+        parser.error(f"--env-id must be of a task in {sorted(CORE_PLANNERS)}, got {task!r}")
+    core_planner, reference_planner = CORE_PLANNERS[task]
     layouts = range(VALIDATION[0], VALIDATION[0] + args.episodes)
     differ, probes, successes = [], 0, 0
     for layout in layouts:

@@ -1,23 +1,27 @@
-"""The teacher's speed beside the environment's: probes per second of the GPIS probe planner
-(the core's, and the Python reference it replaced) against random probes, side by side in
+"""The teacher's speed beside the environment's: probes per second of an env id's scripted
+planner (the core's, and the Python reference it replaced; the GPIS probe planner for a
+search id, the identify planner for an identify id) against random probes, side by side in
 one run on the same training-range layouts and settings.
 
 Rows, each over whole episodes (resets included):
 
-- ``random probes``: one env, one thread, random probes (the environment's own rate);
+- ``random probes``: one env, one thread, random probes (the environment's own rate; on an
+  identify id, random probes that never claim);
 - ``core planner``: the same env with the core's planner choosing every probe;
 - ``its probes replayed``: the same env stepping the planner's probes again without it (the
   environment's own rate on the planner's episodes, which are shorter than random ones, so
   a reset weighs more per probe);
-- ``python planner``: the Python reference (``agents.scripted.belief_planner``), on fewer
+- ``python planner``: the Python reference (``agents.scripted.CORE_PLANNERS``), on fewer
   episodes (it is slow);
 - ``vector random`` and ``vector core planner``: a vector env of ``--num-envs`` episodes on
   every core, random probes or the core's planner over the whole batch
-  (``ProbePlanner(config, n)``: one planner per episode, acting in parallel).
+  (the core's class, ``ProbePlanner(config, n)`` or ``IdentifyPlanner(config, n)``: one
+  planner per episode, acting in parallel).
 
 It prints probes/s per row and the planner's rate as a share of the random rate beside it::
 
     python -m benchmarks.teacher_speed --episodes 200 --num-envs 16
+    python -m benchmarks.teacher_speed --env-id tactile_search/IdentifyByTouch-v0
 """
 
 from __future__ import annotations
@@ -27,24 +31,36 @@ import time
 from collections.abc import Callable
 from typing import Any
 
+import gymnasium as gym
 import numpy as np
 
-from agents.scripted import BeliefProbePlanner, GpisProbePlanner
+from agents.scripted import CORE_PLANNERS, GpisProbePlanner
 from benchmarks.arguments import positive_int
-from tactile_search import CupboardSearchEnv, CupboardSearchVectorEnv, _core
+from tactile_search import ENV_ID, CupboardSearchEnv, CupboardSearchVectorEnv
 
-SETTINGS = GpisProbePlanner.env_kwargs
 #: Layouts of the training range (the teacher labels training layouts).
 FIRST_LAYOUT = 2**32 + 7
 
 
+def random_probes(rng: np.random.Generator, nvec: np.ndarray, size: tuple = ()) -> np.ndarray:
+    """Uniform probes of the action space ``nvec``; a claim entry (the last of four) is 0."""
+    actions = rng.integers(nvec, size=(*size, len(nvec)))
+    if len(nvec) == 4:
+        actions[..., 3] = 0
+    return actions
+
+
 def single_env(
-    episodes: int, choose: Callable[[], Any] | None, replay: list[list[Any]] | None = None
+    settings: dict[str, Any],
+    episodes: int,
+    choose: Callable[[], Any] | None,
+    replay: list[list[Any]] | None = None,
 ) -> tuple[float, int, list[list[Any]]]:
-    """Seconds, probes and each episode's probes over ``episodes`` episodes of one env on
-    one thread: random probes, those of a planner ``choose()`` makes (``reset``/``act``), or
-    the probes of ``replay`` again (the env alone on a planner's episodes)."""
-    env = CupboardSearchEnv(threads=1, **SETTINGS)
+    """Seconds, probes and each episode's probes over ``episodes`` episodes of one env of
+    ``settings`` on one thread: random probes, those of a planner ``choose()`` makes
+    (``reset``/``act``), or the probes of ``replay`` again (the env alone on a planner's
+    episodes)."""
+    env = CupboardSearchEnv(threads=1, **settings)
     rng = np.random.default_rng(0)
     probes, made = 0, []
     started = time.perf_counter()
@@ -60,7 +76,7 @@ def single_env(
             elif planner is not None:
                 action = planner.act(observation)
             else:
-                action = rng.integers(env.action_space.nvec)
+                action = random_probes(rng, env.action_space.nvec)
             episode.append(action)
             observation, _, terminated, truncated, _ = env.step(action)
             probes += 1
@@ -69,14 +85,17 @@ def single_env(
     return time.perf_counter() - started, probes, made
 
 
-def vector_env(num_envs: int, probes: int, planner: bool) -> tuple[float, int]:
+def vector_env(
+    settings: dict[str, Any], num_envs: int, probes: int, core_class: Any = None
+) -> tuple[float, int]:
     """Seconds and probes over at least ``probes`` probes of a vector env of ``num_envs``
-    episodes on every core, with random probes or the core's planner over the batch."""
-    env = CupboardSearchVectorEnv(num_envs=num_envs, autoreset_mode="same_step", **SETTINGS)
+    episodes of ``settings`` on every core, with random probes or the core's planner
+    ``core_class`` over the batch."""
+    env = CupboardSearchVectorEnv(num_envs=num_envs, autoreset_mode="same_step", **settings)
     rng = np.random.default_rng(0)
     started = time.perf_counter()
     observation, _ = env.reset(seed=FIRST_LAYOUT)
-    teacher = _core.ProbePlanner(env.config.core, num_envs) if planner else None
+    teacher = core_class(env.config.core, num_envs) if core_class is not None else None
     if teacher is not None:
         for i in range(num_envs):
             teacher.reset(i, observation["map"][i], observation["proprio"][i])
@@ -85,7 +104,7 @@ def vector_env(num_envs: int, probes: int, planner: bool) -> tuple[float, int]:
         if teacher is not None:
             actions = teacher.act(observation["map"], observation["proprio"])
         else:
-            actions = rng.integers(env.single_action_space.nvec, size=(num_envs, 3))
+            actions = random_probes(rng, env.single_action_space.nvec, (num_envs,))
         observation, _, terminated, truncated, _ = env.step(actions)
         done_probes += num_envs
         if teacher is not None:
@@ -102,18 +121,24 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--python-episodes", type=positive_int, default=20)
     parser.add_argument("--num-envs", type=positive_int, default=16)
     parser.add_argument("--vector-probes", type=positive_int, default=4000)
+    parser.add_argument("--env-id", default=ENV_ID, help="a search or identify id")
     args = parser.parse_args(argv)
-    *planned, episodes = single_env(args.episodes, GpisProbePlanner)
+    settings = {**gym.spec(args.env_id).kwargs, **GpisProbePlanner.env_kwargs}
+    task = CupboardSearchEnv(**settings).config.task
+    if task not in CORE_PLANNERS:
+        parser.error(f"--env-id must be of a task in {sorted(CORE_PLANNERS)}, got {task!r}")
+    face, reference = CORE_PLANNERS[task]
+    *planned, episodes = single_env(settings, args.episodes, face)
     rows = {
-        "random probes, one env": single_env(args.episodes, None)[:2],
+        "random probes, one env": single_env(settings, args.episodes, None)[:2],
         "core planner, one env": tuple(planned),
-        "its probes replayed, one env": single_env(args.episodes, None, episodes)[:2],
-        "python planner, one env": single_env(args.python_episodes, BeliefProbePlanner)[:2],
+        "its probes replayed, one env": single_env(settings, args.episodes, None, episodes)[:2],
+        "python planner, one env": single_env(settings, args.python_episodes, reference)[:2],
         f"vector random, {args.num_envs} envs": vector_env(
-            args.num_envs, args.vector_probes, planner=False
+            settings, args.num_envs, args.vector_probes
         ),
         f"vector core planner, {args.num_envs} envs": vector_env(
-            args.num_envs, args.vector_probes, planner=True
+            settings, args.num_envs, args.vector_probes, face.core_class
         ),
     }
     rates = {name: probes / seconds for name, (seconds, probes) in rows.items()}
@@ -123,6 +148,7 @@ def main(argv: list[str] | None = None) -> None:
         "python planner, one env": "random probes, one env",
         f"vector core planner, {args.num_envs} envs": f"vector random, {args.num_envs} envs",
     }
+    print(args.env_id)
     print(f"{'':40} {'probes':>7} {'seconds':>8} {'probes/s':>9}  share of random")
     for name, (seconds, probes) in rows.items():
         share = f"{100 * rates[name] / rates[base[name]]:6.1f} %" if name in base else ""

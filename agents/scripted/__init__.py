@@ -32,6 +32,14 @@ SCRIPTED_AGENTS: dict[str, Callable[[], Agent]] = {
     "map_oracle": MapOracle,
 }
 
+#: Per task, the scripted planner that is a face of the core's (and its teacher) and the
+#: Python reference of its rules (``benchmarks.planner_agreement``,
+#: ``benchmarks.teacher_speed``).
+CORE_PLANNERS: dict[str, tuple[type, type]] = {
+    "search": (GpisProbePlanner, BeliefProbePlanner),
+    "identify": (IdentifyPlanner, BeliefIdentifyPlanner),
+}
+
 #: The name of the upper-bound baseline (it knows the target).
 ORACLE = "oracle"
 
@@ -56,6 +64,7 @@ def scripted_agents_for(task: str) -> list[str]:
 
 
 __all__ = [
+    "CORE_PLANNERS",
     "ORACLE",
     "SCRIPTED_AGENTS",
     "SCRIPTED_TASKS",
