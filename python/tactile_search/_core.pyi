@@ -595,8 +595,8 @@ class ProbePlanner:
         """Starts episode ``index`` from its first observation."""
     def act(self, maps: NDArray[np.uint8], proprio: NDArray[np.float32]) -> NDArray[np.int64]:
         """Every episode's next probe ``(n, 3)`` for its observation (rows in parallel)."""
-    def follow(self, index: int, action: Any) -> None:
-        """Episode ``index``'s env carries out ``action`` instead of the chosen probe."""
+    def follow(self, index: int, probe: Any) -> None:
+        """Episode ``index``'s env carries out ``probe`` instead of the chosen probe."""
 
 class IdentifyPlanner:
     """The identify task's planner of ``num_envs`` episodes of ``config`` (task ``identify``

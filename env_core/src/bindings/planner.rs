@@ -151,102 +151,80 @@ impl<P: Planner + Clone> PlannerBatch<P> {
     }
 }
 
-/// The GPIS probe planner of `num_envs` episodes of `config` (the GPIS map, the `probe`
-/// action mode): per episode, `reset` with its first observation, then `act` on the
-/// observations after each probe (and `follow` when the env carries out another probe
-/// than the one chosen). It reads the observations and the settings, nothing else.
-#[pyclass(name = "ProbePlanner", module = "tactile_search._core", frozen)]
-pub struct PyProbePlanner(PlannerBatch<ProbePlanner>);
+/// A Python class over a [`PlannerBatch`] of one planner type: `new(config, num_envs)`,
+/// `__len__`, `reset(index, map, proprio)`, `act(maps, proprio)` and `follow(index, probe)`.
+macro_rules! planner_class {
+    ($(#[$doc:meta])* $class:ident, $name:literal, $planner:ty, act: $act_doc:literal) => {
+        $(#[$doc])*
+        #[pyclass(name = $name, module = "tactile_search._core", frozen)]
+        pub struct $class(PlannerBatch<$planner>);
 
-#[pymethods]
-impl PyProbePlanner {
-    #[new]
-    fn new(config: &Bound<'_, PyAny>, num_envs: usize) -> PyResult<Self> {
-        PlannerBatch::new("ProbePlanner", config, num_envs, ProbePlanner::new).map(Self)
-    }
+        #[pymethods]
+        impl $class {
+            #[new]
+            fn new(config: &Bound<'_, PyAny>, num_envs: usize) -> PyResult<Self> {
+                PlannerBatch::new($name, config, num_envs, <$planner>::new).map(Self)
+            }
 
-    /// How many episodes it plans for.
-    fn __len__(&self) -> PyResult<usize> {
-        self.0.len()
-    }
+            /// How many episodes it plans for.
+            fn __len__(&self) -> PyResult<usize> {
+                self.0.len()
+            }
 
-    /// Starts episode `index` from its first observation: `map` `(C, H, W)` uint8 and
-    /// `proprio` `(11,)` float32.
-    fn reset(
-        &self,
-        py: Python<'_>,
-        index: usize,
-        map: &Bound<'_, PyAny>,
-        proprio: &Bound<'_, PyAny>,
-    ) -> PyResult<()> {
-        self.0.reset(py, index, map, proprio)
-    }
+            /// Starts episode `index` from its first observation: `map` `(C, H, W)` uint8
+            /// and `proprio` `(11,)` float32.
+            fn reset(
+                &self,
+                py: Python<'_>,
+                index: usize,
+                map: &Bound<'_, PyAny>,
+                proprio: &Bound<'_, PyAny>,
+            ) -> PyResult<()> {
+                self.0.reset(py, index, map, proprio)
+            }
 
-    /// Every episode's next probe for its observation after the last probe: `maps`
-    /// `(n, C, H, W)` uint8 and `proprio` `(n, 11)` float32, one row per episode; an
-    /// `(n, 3)` int64 array of (lane, depth, sweep). The planners run in parallel.
-    fn act<'py>(
-        &self,
-        py: Python<'py>,
-        maps: &Bound<'py, PyAny>,
-        proprio: &Bound<'py, PyAny>,
-    ) -> PyResult<Bound<'py, PyArray2<i64>>> {
-        self.0.act(py, maps, proprio)
-    }
+            #[doc = $act_doc]
+            fn act<'py>(
+                &self,
+                py: Python<'py>,
+                maps: &Bound<'py, PyAny>,
+                proprio: &Bound<'py, PyAny>,
+            ) -> PyResult<Bound<'py, PyArray2<i64>>> {
+                self.0.act(py, maps, proprio)
+            }
 
-    /// Tells episode `index`'s planner that the env carries out `action` (lane, depth,
-    /// sweep), not the probe it chose: its belief then learns from that probe.
-    fn follow(&self, index: usize, action: [i64; 3]) -> PyResult<()> {
-        self.0.follow(index, action)
-    }
+            /// Tells episode `index`'s planner that the env carries out `probe` (lane,
+            /// depth, sweep), not the action it chose: its belief then learns from that
+            /// probe.
+            fn follow(&self, index: usize, probe: [i64; 3]) -> PyResult<()> {
+                self.0.follow(index, probe)
+            }
+        }
+    };
 }
 
-/// The identify task's planner of `num_envs` episodes of `config` (the identify task with a
-/// square target, the GPIS map, the `probe` action mode): the GPIS probe planner's search,
-/// the touched jars' shapes told from their contacts, and the claim. Used as
-/// `ProbePlanner` is; its actions are (lane, depth, sweep, claim).
-#[pyclass(name = "IdentifyPlanner", module = "tactile_search._core", frozen)]
-pub struct PyIdentifyPlanner(PlannerBatch<IdentifyPlanner>);
+planner_class!(
+    /// The GPIS probe planner of `num_envs` episodes of `config` (the GPIS map, the `probe`
+    /// action mode): per episode, `reset` with its first observation, then `act` on the
+    /// observations after each probe (and `follow` when the env carries out another probe
+    /// than the one chosen). It reads the observations and the settings, nothing else.
+    PyProbePlanner,
+    "ProbePlanner",
+    ProbePlanner,
+    act: "Every episode's next probe for its observation after the last probe: `maps` \
+          `(n, C, H, W)` uint8 and `proprio` `(n, 11)` float32, one row per episode; an \
+          `(n, 3)` int64 array of (lane, depth, sweep). The planners run in parallel."
+);
 
-#[pymethods]
-impl PyIdentifyPlanner {
-    #[new]
-    fn new(config: &Bound<'_, PyAny>, num_envs: usize) -> PyResult<Self> {
-        PlannerBatch::new("IdentifyPlanner", config, num_envs, IdentifyPlanner::new).map(Self)
-    }
-
-    /// How many episodes it plans for.
-    fn __len__(&self) -> PyResult<usize> {
-        self.0.len()
-    }
-
-    /// Starts episode `index` from its first observation: `map` `(C, H, W)` uint8 and
-    /// `proprio` `(11,)` float32.
-    fn reset(
-        &self,
-        py: Python<'_>,
-        index: usize,
-        map: &Bound<'_, PyAny>,
-        proprio: &Bound<'_, PyAny>,
-    ) -> PyResult<()> {
-        self.0.reset(py, index, map, proprio)
-    }
-
-    /// Every episode's next action for its observation after the last probe: `maps`
-    /// `(n, C, H, W)` uint8 and `proprio` `(n, 11)` float32, one row per episode; an
-    /// `(n, 4)` int64 array of (lane, depth, sweep, claim). The planners run in parallel.
-    fn act<'py>(
-        &self,
-        py: Python<'py>,
-        maps: &Bound<'py, PyAny>,
-        proprio: &Bound<'py, PyAny>,
-    ) -> PyResult<Bound<'py, PyArray2<i64>>> {
-        self.0.act(py, maps, proprio)
-    }
-
-    /// Tells episode `index`'s planner that the env carries out the probe `probe` (lane,
-    /// depth, sweep), not the action it chose: its belief then learns from that probe.
-    fn follow(&self, index: usize, probe: [i64; 3]) -> PyResult<()> {
-        self.0.follow(index, probe)
-    }
-}
+planner_class!(
+    /// The identify task's planner of `num_envs` episodes of `config` (the identify task
+    /// with a square target, the GPIS map, the `probe` action mode): the GPIS probe
+    /// planner's search, the touched jars' shapes told from their contacts, and the claim.
+    /// Used as `ProbePlanner` is; its actions are (lane, depth, sweep, claim).
+    PyIdentifyPlanner,
+    "IdentifyPlanner",
+    IdentifyPlanner,
+    act: "Every episode's next action for its observation after the last probe: `maps` \
+          `(n, C, H, W)` uint8 and `proprio` `(n, 11)` float32, one row per episode; an \
+          `(n, 4)` int64 array of (lane, depth, sweep, claim). The planners run in parallel."
+);
