@@ -1,14 +1,17 @@
-"""Whether the core's planner of an env id's task makes the episodes its Python reference
-made (the GPIS probe planner for a search id, the identify planner for an identify id): both
-run on the same validation layouts, each in its own env, and every episode's actions,
-success, motions (steps) and jar displacement are compared.
+"""Whether one of the core's planners (``agents.scripted.CORE_PLANNERS``: the GPIS probe
+planner, the identify planner, the variance and occupancy mappers) makes the episodes its
+Python reference made: both run on the same validation layouts of an env id of the planner's
+task, each in its own env, and every episode's actions, success, motions (steps), jar
+displacement and map score are compared.
 
 Prints the layouts run, the actions compared and every episode that differs (none is the
 expected outcome: the core's planner computes the reference's rules in the reference's
 float order)::
 
     python -m benchmarks.planner_agreement --episodes 200
-    python -m benchmarks.planner_agreement --episodes 200 --env-id tactile_search/IdentifyByTouch-v0
+    python -m benchmarks.planner_agreement --episodes 200 --planner identify_planner \
+        --env-id tactile_search/IdentifyByTouchDense-v0
+    python -m benchmarks.planner_agreement --episodes 200 --planner variance_mapper
 """
 
 from __future__ import annotations
@@ -19,10 +22,31 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from agents.scripted import CORE_PLANNERS, GpisProbePlanner
+from agents.scripted import CORE_PLANNERS, SCRIPTED_TASKS
 from benchmarks.arguments import positive_int
-from tactile_search import ENV_ID, CupboardSearchEnv
+from tactile_search import CupboardSearchEnv
 from tactile_search.seed_ranges import VALIDATION
+
+#: The env id a planner runs on unless told, by its task.
+TASK_IDS = {
+    "search": "tactile_search/CupboardSearch-v0",
+    "identify": "tactile_search/IdentifyByTouch-v0",
+    "map": "tactile_search/MapByTouch-v0",
+}
+
+
+def planner_settings(
+    parser: argparse.ArgumentParser, planner: str, env_id: str | None
+) -> tuple[str, dict[str, Any]]:
+    """The env id (``env_id``, else the planner's task's id) and its settings in the
+    planner's map and action mode; a parser error for an id of another task."""
+    face = CORE_PLANNERS[planner][0]
+    env_id = env_id or TASK_IDS[SCRIPTED_TASKS[planner][0]]
+    settings = {**gym.spec(env_id).kwargs, **face.env_kwargs}
+    task = CupboardSearchEnv(**settings).config.task
+    if task not in SCRIPTED_TASKS[planner]:
+        parser.error(f"--env-id must be of the {planner}'s task, got one of task {task!r}")
+    return env_id, settings
 
 
 def episode(planner: Any, env: CupboardSearchEnv, layout: int) -> dict[str, Any]:
@@ -39,20 +63,19 @@ def episode(planner: Any, env: CupboardSearchEnv, layout: int) -> dict[str, Any]
         "success": bool(info["success"]),
         "steps": int(info["steps"]),
         "displacement": float(info["jar_displacement"]),
+        "map_score_mm": info.get("map_score_mm"),
     }
 
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--episodes", type=positive_int, default=200)
-    parser.add_argument("--env-id", default=ENV_ID, help="a search or identify id")
+    parser.add_argument("--planner", choices=sorted(CORE_PLANNERS), default="gpis_probe_planner")
+    parser.add_argument("--env-id", help="an id of the planner's task (default: its task's)")
     args = parser.parse_args(argv)
-    settings = {**gym.spec(args.env_id).kwargs, **GpisProbePlanner.env_kwargs}
+    env_id, settings = planner_settings(parser, args.planner, args.env_id)
     core_env, reference_env = CupboardSearchEnv(**settings), CupboardSearchEnv(**settings)
-    task = core_env.config.task
-    if task not in CORE_PLANNERS:
-        parser.error(f"--env-id must be of a task in {sorted(CORE_PLANNERS)}, got {task!r}")
-    core_planner, reference_planner = CORE_PLANNERS[task]
+    core_planner, reference_planner = CORE_PLANNERS[args.planner]
     layouts = range(VALIDATION[0], VALIDATION[0] + args.episodes)
     differ, probes, successes = [], 0, 0
     for layout in layouts:
@@ -63,8 +86,9 @@ def main(argv: list[str] | None = None) -> None:
         if core != reference:
             differ.append((layout, core, reference))
     print(
-        f"{args.env_id}: {args.episodes} validation layouts from {layouts[0]}, {probes} actions, "
-        f"reference success {successes / args.episodes:.1%}: {len(differ)} episodes differ"
+        f"{args.planner} on {env_id}: {args.episodes} validation layouts from {layouts[0]}, "
+        f"{probes} actions, reference success {successes / args.episodes:.1%}: "
+        f"{len(differ)} episodes differ"
     )
     for layout, core, reference in differ:
         print(f"layout {layout}:\n  core      {core}\n  reference {reference}")

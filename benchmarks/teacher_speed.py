@@ -1,7 +1,7 @@
-"""The teacher's speed beside the environment's: probes per second of an env id's scripted
-planner (the core's, and the Python reference it replaced; the GPIS probe planner for a
-search id, the identify planner for an identify id) against random probes, side by side in
-one run on the same training-range layouts and settings.
+"""A teacher's speed beside the environment's: probes per second of one of the core's planners
+(``agents.scripted.CORE_PLANNERS``: the GPIS probe planner, the identify planner, the
+mappers), and of the Python reference it replaced, against random probes, side by side in
+one run on the same training-range layouts and settings (an env id of the planner's task).
 
 Rows, each over whole episodes (resets included):
 
@@ -21,7 +21,7 @@ Rows, each over whole episodes (resets included):
 It prints probes/s per row and the planner's rate as a share of the random rate beside it::
 
     python -m benchmarks.teacher_speed --episodes 200 --num-envs 16
-    python -m benchmarks.teacher_speed --env-id tactile_search/IdentifyByTouch-v0
+    python -m benchmarks.teacher_speed --planner identify_planner
 """
 
 from __future__ import annotations
@@ -31,12 +31,12 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-import gymnasium as gym
 import numpy as np
 
-from agents.scripted import CORE_PLANNERS, GpisProbePlanner
+from agents.scripted import CORE_PLANNERS
 from benchmarks.arguments import positive_int
-from tactile_search import ENV_ID, CupboardSearchEnv, CupboardSearchVectorEnv
+from benchmarks.planner_agreement import planner_settings
+from tactile_search import CupboardSearchEnv, CupboardSearchVectorEnv
 
 #: Layouts of the training range (the teacher labels training layouts).
 FIRST_LAYOUT = 2**32 + 7
@@ -121,13 +121,11 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--python-episodes", type=positive_int, default=20)
     parser.add_argument("--num-envs", type=positive_int, default=16)
     parser.add_argument("--vector-probes", type=positive_int, default=4000)
-    parser.add_argument("--env-id", default=ENV_ID, help="a search or identify id")
+    parser.add_argument("--planner", choices=sorted(CORE_PLANNERS), default="gpis_probe_planner")
+    parser.add_argument("--env-id", help="an id of the planner's task (default: its task's)")
     args = parser.parse_args(argv)
-    settings = {**gym.spec(args.env_id).kwargs, **GpisProbePlanner.env_kwargs}
-    task = CupboardSearchEnv(**settings).config.task
-    if task not in CORE_PLANNERS:
-        parser.error(f"--env-id must be of a task in {sorted(CORE_PLANNERS)}, got {task!r}")
-    face, reference = CORE_PLANNERS[task]
+    env_id, settings = planner_settings(parser, args.planner, args.env_id)
+    face, reference = CORE_PLANNERS[args.planner]
     *planned, episodes = single_env(settings, args.episodes, face)
     rows = {
         "random probes, one env": single_env(settings, args.episodes, None)[:2],
@@ -148,7 +146,7 @@ def main(argv: list[str] | None = None) -> None:
         "python planner, one env": "random probes, one env",
         f"vector core planner, {args.num_envs} envs": f"vector random, {args.num_envs} envs",
     }
-    print(args.env_id)
+    print(f"{args.planner} on {env_id}")
     print(f"{'':40} {'probes':>7} {'seconds':>8} {'probes/s':>9}  share of random")
     for name, (seconds, probes) in rows.items():
         share = f"{100 * rates[name] / rates[base[name]]:6.1f} %" if name in base else ""

@@ -1,12 +1,13 @@
 """The core planners' decisions on pinned validation layouts, for
-``tests/test_probe_planner_core.py`` and ``tests/test_identify_planner_core.py``.
+``tests/test_probe_planner_core.py``, ``tests/test_identify_planner_core.py`` and
+``tests/test_map_planner_core.py``.
 
-``python tests/planner_decisions.py --task search --out tests/data/probe_planner_decisions.npz``
-records the Python reference's actions (``agents.scripted.belief_planner.BeliefProbePlanner``;
-``--task identify``: ``agents.scripted.belief_identify.BeliefIdentifyPlanner`` on
-``IDENTIFY_ID``), every one of each episode, on the task's layouts. The tests check that the
-core's planner and the reference both still make them. Re-record only for a change of a
-planner's rules made on purpose, and say why in the commit.
+``python tests/planner_decisions.py --planner gpis_probe_planner --out
+tests/data/probe_planner_decisions.npz`` records the Python reference's actions (the second
+of ``agents.scripted.CORE_PLANNERS[planner]``), every one of each episode, on the planner's
+pinned layouts and settings (``pinned_episodes``). The tests check that the core's planner
+and the reference both still make them. Re-record only for a change of a planner's rules
+made on purpose, and say why in the commit.
 """
 
 from __future__ import annotations
@@ -38,6 +39,26 @@ IDENTIFY_LAYOUTS = tuple(range(1_000_000, 1_000_024))
 def identify_settings() -> dict[str, Any]:
     """The identify id's settings in the planner's action mode."""
     return {**gym.spec(IDENTIFY_ID).kwargs, **SETTINGS}
+
+
+MAP_ID = "tactile_search/MapByTouch-v0"
+#: The mappers' pinned layouts: the first 12 of the validation range.
+MAP_LAYOUTS = tuple(range(1_000_000, 1_000_012))
+
+
+def map_settings(map_mode: str) -> dict[str, Any]:
+    """The map id's settings with the map ``map_mode``, in the probe action mode."""
+    return {**gym.spec(MAP_ID).kwargs, "map": map_mode, "action_mode": "probe"}
+
+
+def pinned_episodes(planner: str) -> tuple[tuple[int, ...], dict[str, Any]]:
+    """The layouts and settings a planner's decisions are pinned on."""
+    return {
+        "gpis_probe_planner": (LAYOUTS, SETTINGS),
+        "identify_planner": (IDENTIFY_LAYOUTS, identify_settings()),
+        "variance_mapper": (MAP_LAYOUTS, map_settings("gpis")),
+        "occupancy_mapper": (MAP_LAYOUTS, map_settings("occupancy")),
+    }[planner]
 
 
 def record(
@@ -96,17 +117,14 @@ def record_batch(core_class: Any, layouts=LAYOUTS, settings=None) -> dict[str, n
 
 
 def main() -> None:
-    from agents.scripted import BeliefIdentifyPlanner, BeliefProbePlanner
+    from agents.scripted import CORE_PLANNERS
 
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--task", choices=("search", "identify"), default="search")
+    parser.add_argument("--planner", choices=sorted(CORE_PLANNERS), required=True)
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args()
-    if args.task == "search":
-        decisions = record(BeliefProbePlanner)
-    else:
-        decisions = record(BeliefIdentifyPlanner, IDENTIFY_LAYOUTS, identify_settings())
-    np.savez_compressed(args.out, **decisions)
+    layouts, settings = pinned_episodes(args.planner)
+    np.savez_compressed(args.out, **record(CORE_PLANNERS[args.planner][1], layouts, settings))
 
 
 if __name__ == "__main__":

@@ -1,4 +1,5 @@
-"""The map task's scripted baselines (``agents.scripted.map_probe``) on
+"""The map task's scripted baselines (``agents.scripted.map_probe``, the mappers' faces of the
+core's in ``agents.scripted.core_mappers``) on
 ``tactile_search/MapByTouch-v0``'s settings in the probe action mode: the non-oracle ones read
 only the observation and the static configuration, the variance mapper's first probe is the
 one whose finger passes the most GPIS std, and it maps better than random probes."""
@@ -13,12 +14,12 @@ import pytest
 
 import tactile_search  # noqa: F401  (registers the ids)
 from agents.scripted import SCRIPTED_AGENTS
+from agents.scripted.core_mappers import OccupancyMapper, VarianceMapper
 from agents.scripted.map_probe import (
     PATH_HALF_WIDTH,
+    BeliefVarianceMapper,
     MapOracle,
-    OccupancyMapper,
     RandomMapAgent,
-    VarianceMapper,
 )
 from tactile_search import CupboardSearchEnv
 from tactile_search.seed_ranges import held_out_seeds
@@ -120,13 +121,16 @@ def test_the_variance_mappers_first_probe_passes_the_most_std() -> None:
     summed over the cells its path passes (computed here from the finger's segments)."""
     env = CupboardSearchEnv(**settings(VarianceMapper))
     observation, info = env.reset(seed=held_out_seeds("validation", 1)[0])
+    # The probes it may make, from its Python reference's belief of the same observation.
+    reference = BeliefVarianceMapper()
+    reference.reset(env, observation, info)
+    std = env.decode_map(observation["map"])["std"]
+    pose = reference._pose(observation["proprio"])
+    candidates = reference._candidates(pose)
+    assert len(candidates) > 10
+    sums = {index: _std_along(reference.geometry, probe, std) for index, probe, _ in candidates}
     agent = VarianceMapper()
     agent.reset(env, observation, info)
-    std = env.decode_map(observation["map"])["std"]
-    pose = agent._pose(observation["proprio"])
-    candidates = agent._candidates(pose)
-    assert len(candidates) > 10
-    sums = {index: _std_along(agent.geometry, probe, std) for index, probe, _ in candidates}
     chosen = tuple(int(i) for i in agent.act(observation))
     assert chosen in sums
     best = max(sums, key=sums.get)

@@ -12,9 +12,15 @@ from collections.abc import Callable
 from agents.rollout import Agent
 from agents.scripted.belief_identify import BeliefIdentifyPlanner
 from agents.scripted.belief_planner import BeliefProbePlanner
+from agents.scripted.core_mappers import OccupancyMapper, VarianceMapper
 from agents.scripted.gpis_probe_planner import GpisProbePlanner
 from agents.scripted.identify_planner import IdentifyPlanner
-from agents.scripted.map_probe import MapOracle, OccupancyMapper, RandomMapAgent, VarianceMapper
+from agents.scripted.map_probe import (
+    BeliefOccupancyMapper,
+    BeliefVarianceMapper,
+    MapOracle,
+    RandomMapAgent,
+)
 from agents.scripted.oracle_agent import OracleAgent
 from agents.scripted.random_agent import RandomAgent
 from agents.scripted.random_identify import RandomIdentifyAgent
@@ -32,12 +38,14 @@ SCRIPTED_AGENTS: dict[str, Callable[[], Agent]] = {
     "map_oracle": MapOracle,
 }
 
-#: Per task, the scripted planner that is a face of the core's (and its teacher) and the
+#: The scripted planners that are faces of the core's (the teachers), each beside the
 #: Python reference of its rules (``benchmarks.planner_agreement``,
 #: ``benchmarks.teacher_speed``).
 CORE_PLANNERS: dict[str, tuple[type, type]] = {
-    "search": (GpisProbePlanner, BeliefProbePlanner),
-    "identify": (IdentifyPlanner, BeliefIdentifyPlanner),
+    "gpis_probe_planner": (GpisProbePlanner, BeliefProbePlanner),
+    "identify_planner": (IdentifyPlanner, BeliefIdentifyPlanner),
+    "variance_mapper": (VarianceMapper, BeliefVarianceMapper),
+    "occupancy_mapper": (OccupancyMapper, BeliefOccupancyMapper),
 }
 
 #: The name of the upper-bound baseline (it knows the target).
@@ -70,7 +78,9 @@ __all__ = [
     "SCRIPTED_TASKS",
     "Agent",
     "BeliefIdentifyPlanner",
+    "BeliefOccupancyMapper",
     "BeliefProbePlanner",
+    "BeliefVarianceMapper",
     "GpisProbePlanner",
     "IdentifyPlanner",
     "MapOracle",

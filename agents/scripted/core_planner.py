@@ -1,6 +1,7 @@
 """A scripted agent that is a thin face over one of the core's planners
-(``tactile_search._core.ProbePlanner``, ``IdentifyPlanner``): the core keeps the episode's
-belief and chooses the actions, from the env's settings and the observations alone. The face
+(``tactile_search._core.ProbePlanner``, ``IdentifyPlanner``, ``MapPlanner``): the core keeps
+the episode's belief and chooses the actions, from the env's settings and the observations
+alone. The face
 runs it as an agent of one episode (``reset``, ``act``, ``follow``, as every scripted agent
 and teacher does); the core's class plans for a batch of ``n`` episodes at once, on every
 core (``agents.imitation.batched`` and ``benchmarks.teacher_speed`` run it over a vector
@@ -40,8 +41,12 @@ class CorePlannerFace:
         """Starts an episode of ``env`` (settings the core's planner plans for, else
         ``ValueError`` naming them) from its first ``observation``."""
         del info  # the planner reads the observation only
-        if "map" not in observation:
-            raise ValueError(f"{type(self).__name__} needs the map observation (map='gpis')")
+        wanted = self.env_kwargs["map"]
+        if "map" not in observation or env.config.map != wanted:
+            raise ValueError(
+                f"{type(self).__name__} needs the map observation of map={wanted!r}, got "
+                f"map={env.config.map!r}"
+            )
         # The core's planner holds the settings' static geometry: made once per settings.
         if self._core is None or self._core_config != env.config.core:
             self._core = self.core_class(env.config.core, 1)

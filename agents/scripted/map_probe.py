@@ -1,6 +1,11 @@
 """Scripted baselines for the map task (``tactile_search/MapByTouch-v0``) in the probe action
 mode: random probes, greedy mappers on the observed map, and the map oracle.
 
+The greedy mappers the agents run are faces of the core's (``agents.scripted.core_mappers``,
+``env_core/src/planner/map_planner.rs``); their rules here in Python (``BeliefVarianceMapper``,
+``BeliefOccupancyMapper``) are the reference the core's are pinned to
+(``tests/test_map_planner_core.py``), and ``GreedyMapper`` the map oracle's base.
+
 The mappers share the GPIS probe planner's machinery (``BeliefProbePlanner``): its belief of
 the finger's swept cells and touched jars, and its candidate probes, those of the core's
 grid the wrist and arm can make without coming near a cell that may hold a jar
@@ -10,9 +15,10 @@ in along the lane, then the turn), cells the finger already swept without touchi
 as nothing (a probe that touched nothing is not chosen again for the same cells), and a
 probe once chosen never chosen again (its touch, if any, is already evidence).
 
-- ``VarianceMapper`` (``map="gpis"``): the GPIS standard deviation, the paper's suggestion.
-- ``OccupancyMapper`` (``map="occupancy"``): how unknown each cell of the occupancy grid is
-  (1 at P(occupied) = 0.5, 0 at 0 or 1).
+- ``BeliefVarianceMapper`` (``map="gpis"``): the GPIS standard deviation, the paper's
+  suggestion.
+- ``BeliefOccupancyMapper`` (``map="occupancy"``): how unknown each cell of the occupancy grid
+  is (1 at P(occupied) = 0.5, 0 at 0 or 1).
 - ``MapOracle`` reads the ground truth (``render_state``): per probe, the first point of a
   true jar its finger would meet, worth the score GPIS's error (``score_mean``'s distance
   from zero, capped) summed over the true outline near it.
@@ -161,21 +167,21 @@ class GreedyMapper(BeliefProbePlanner):
         return (len(g.probe_lanes) // 2, 0, len(g.probe_yaws) // 2)
 
 
-class VarianceMapper(GreedyMapper):
+class BeliefVarianceMapper(GreedyMapper):
     """Probes where the GPIS standard deviation along the finger's path sums largest."""
 
-    name = "variance_mapper"
+    name = "belief_variance_mapper"
 
     def cell_weight(self) -> np.ndarray:
         return np.asarray(self._raw["std"], dtype=float)
 
 
-class OccupancyMapper(GreedyMapper):
+class BeliefOccupancyMapper(GreedyMapper):
     """Probes where the occupancy grid's unknown cells along the finger's path sum largest;
     its belief reads the grid as a map of signed distance (a cell above ``OCCUPIED`` a jar,
     one below 1 - ``OCCUPIED`` free, the rest unknown)."""
 
-    name = "occupancy_mapper"
+    name = "belief_occupancy_mapper"
     map_mode: ClassVar[str] = "occupancy"
     env_kwargs: ClassVar[dict[str, str]] = {"map": "occupancy", "action_mode": "probe"}
 

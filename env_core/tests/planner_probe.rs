@@ -96,7 +96,10 @@ fn the_planner_refuses_other_maps_action_modes_and_calls_out_of_order() {
     occupancy.map.mode = MapMode::Occupancy;
     assert_eq!(
         ProbePlanner::new(&occupancy).unwrap_err(),
-        PlannerError::NeedsGpisMap("occupancy")
+        PlannerError::NeedsMap {
+            wanted: "gpis",
+            got: "occupancy"
+        }
     );
     assert_eq!(
         ProbePlanner::new(&EpisodeConfig::default()).unwrap_err(),

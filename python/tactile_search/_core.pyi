@@ -612,6 +612,20 @@ class IdentifyPlanner:
     def follow(self, index: int, probe: Any) -> None:
         """Episode ``index``'s env carries out ``probe`` instead of the chosen action."""
 
+class MapPlanner:
+    """The map task's greedy mapper of ``num_envs`` episodes of ``config`` (map ``gpis``: the
+    variance mapper, ``occupancy``: the occupancy mapper; action mode ``probe``): it reads
+    the observations and the settings, nothing else."""
+
+    def __init__(self, config: EpisodeConfig, num_envs: int) -> None: ...
+    def __len__(self) -> int: ...
+    def reset(self, index: int, map: NDArray[np.uint8], proprio: NDArray[np.float32]) -> None:
+        """Starts episode ``index`` from its first observation."""
+    def act(self, maps: NDArray[np.uint8], proprio: NDArray[np.float32]) -> NDArray[np.int64]:
+        """Every episode's next probe ``(n, 3)`` for its observation (rows in parallel)."""
+    def follow(self, index: int, probe: Any) -> None:
+        """Episode ``index``'s env carries out ``probe`` instead of the chosen probe."""
+
 class Observations:
     """GP observations in the order they enter a map (from ``depth_prior``)."""
 

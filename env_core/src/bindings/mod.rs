@@ -11,7 +11,7 @@
 //! - [`geometry`], [`prior`]: the core's geometry, metrics and depth prior as functions,
 //!   so experiments run what the environment runs.
 //! - one file per class: [`gpis`] (`GpisCore`), [`scene`] (`Scene`), [`episode`]
-//!   (`EpisodeBatch`), [`planner`] (`ProbePlanner`, `IdentifyPlanner`).
+//!   (`EpisodeBatch`), [`planner`] (`ProbePlanner`, `IdentifyPlanner`, `MapPlanner`).
 
 mod actions;
 mod arrays;
@@ -53,6 +53,7 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<episode::PyEpisodeBatch>()?;
     m.add_class::<planner::PyProbePlanner>()?;
     m.add_class::<planner::PyIdentifyPlanner>()?;
+    m.add_class::<planner::PyMapPlanner>()?;
     geometry::register(m)?;
     prior::register(m)?;
     m.add_function(wrap_pyfunction!(observation::observation_layout, m)?)?;

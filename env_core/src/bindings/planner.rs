@@ -1,6 +1,7 @@
 //! The core's planners ([`crate::planner`]) over a batch of episodes, one planner per
 //! episode, acting on every core with the GIL released: `ProbePlanner` (the GPIS probe
-//! planner) and `IdentifyPlanner` (the identify task's).
+//! planner), `IdentifyPlanner` (the identify task's) and `MapPlanner` (the map task's
+//! greedy mappers).
 
 use numpy::{Element, PyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -11,7 +12,7 @@ use super::errors::{episode_index_error, wrong_shape, wrong_value};
 use super::exclusive::Exclusive;
 use crate::episode::{EpisodeConfig, PROPRIO_LEN};
 use crate::planner::{
-    act_batch, IdentifyPlanner, Planner, PlannerError, PlannerObservation, ProbePlanner,
+    act_batch, IdentifyPlanner, MapPlanner, Planner, PlannerError, PlannerObservation, ProbePlanner,
 };
 use crate::settings::Checked;
 
@@ -227,4 +228,17 @@ planner_class!(
     act: "Every episode's next action for its observation after the last probe: `maps` \
           `(n, C, H, W)` uint8 and `proprio` `(n, 11)` float32, one row per episode; an \
           `(n, 4)` int64 array of (lane, depth, sweep, claim). The planners run in parallel."
+);
+
+planner_class!(
+    /// The map task's greedy mapper of `num_envs` episodes of `config` (the GPIS map: the
+    /// variance mapper; the occupancy grid: the occupancy mapper; the `probe` action mode):
+    /// the probe whose finger passes the most of the map's own uncertainty, each probe
+    /// chosen once. Used as `ProbePlanner` is.
+    PyMapPlanner,
+    "MapPlanner",
+    MapPlanner,
+    act: "Every episode's next probe for its observation after the last probe: `maps` \\
+          `(n, C, H, W)` uint8 and `proprio` `(n, 11)` float32, one row per episode; an \\
+          `(n, 3)` int64 array of (lane, depth, sweep). The planners run in parallel."
 );

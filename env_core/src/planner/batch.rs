@@ -5,6 +5,7 @@ use rayon::prelude::*;
 
 use super::error::PlannerError;
 use super::identify_planner::IdentifyPlanner;
+use super::map_planner::MapPlanner;
 use super::probe_planner::{PlannerObservation, ProbePlanner};
 
 /// A planner of one episode at a time, reading observations only: started from an
@@ -54,6 +55,22 @@ impl Planner for IdentifyPlanner {
 
     fn follow(&mut self, probe: [i64; 3]) -> Result<(), PlannerError> {
         IdentifyPlanner::follow(self, probe)
+    }
+}
+
+impl Planner for MapPlanner {
+    type Action = [i64; 3];
+
+    fn reset(&mut self, observation: PlannerObservation<'_>) -> Result<(), PlannerError> {
+        MapPlanner::reset(self, observation)
+    }
+
+    fn act(&mut self, observation: PlannerObservation<'_>) -> Result<[i64; 3], PlannerError> {
+        MapPlanner::act(self, observation)
+    }
+
+    fn follow(&mut self, probe: [i64; 3]) -> Result<(), PlannerError> {
+        MapPlanner::follow(self, probe)
     }
 }
 

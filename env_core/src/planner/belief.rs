@@ -78,6 +78,11 @@ impl Belief {
         &self.behind
     }
 
+    /// Per cell, whether the finger swept it without touching (no jar centre there).
+    pub fn swept(&self) -> &[bool] {
+        &self.swept
+    }
+
     /// Cells the map is confident are inside or on a jar (mean below `level`).
     pub fn solid(&self, level: f64) -> Vec<bool> {
         solid_cells(&self.mean, &self.std, level)

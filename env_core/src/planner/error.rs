@@ -8,11 +8,16 @@ use crate::episode::EpisodeError;
 /// Why a planner cannot act.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum PlannerError {
-    /// The planner reads the GPIS map.
-    #[error("the GPIS probe planner needs map='gpis', got map='{0}'")]
-    NeedsGpisMap(&'static str),
+    /// The planner reads one map mode.
+    #[error("the planner needs map='{wanted}', got map='{got}'")]
+    NeedsMap {
+        /// The map it reads.
+        wanted: &'static str,
+        /// The settings' map.
+        got: &'static str,
+    },
     /// The planner chooses probes.
-    #[error("the GPIS probe planner needs action_mode='probe', got action_mode='{0}'")]
+    #[error("the planner needs action_mode='probe', got action_mode='{0}'")]
     NeedsProbeActions(&'static str),
     /// A planner for one task, given the settings of another.
     #[error("the {planner} planner needs task='{task}', got task='{got}'")]

@@ -38,7 +38,9 @@
 use super::error::PlannerError;
 use super::geometry::PlannerGeometry;
 use super::numeric::{arange, linspace};
-use super::probe_planner::{Candidate, ContactRule, PlannerObservation, Pose, ProbePlanner};
+use super::probe_planner::{
+    Candidate, ContactRule, MapReading, PlannerObservation, Pose, ProbePlanner,
+};
 use crate::episode::observation::proprio_index;
 use crate::episode::{EpisodeConfig, Task};
 use crate::scene::TargetShape;
@@ -154,7 +156,7 @@ impl IdentifyPlanner {
         }
         let [low, high] = layout.round_diameter;
         Ok(Self {
-            search: ProbePlanner::with_contact_rule(config, ContactRule::FingerSide)?,
+            search: ProbePlanner::with_rules(config, ContactRule::FingerSide, MapReading::Gpis)?,
             radii: [0.5 * low, 0.5 * high],
             mean_radius: 0.25 * (low + high),
             sure_radius: 0.5 * low - SURE_MARGIN,

@@ -5,6 +5,8 @@
 //!   search recipe, built on its [`belief`] and the [`clearance`] queries.
 //! - [`identify_planner`]: the identify task's planner ([`IdentifyPlanner`]): the search
 //!   planner's probes, its touched jars' shapes told from their contacts, and the claim.
+//! - [`map_planner`]: the map task's greedy mappers ([`MapPlanner`]): the probe whose
+//!   finger passes the most of the map's own uncertainty (GPIS std, unknown occupancy).
 //! - [`distance`], [`numeric`]: the capped distance transform and numpy's float order the
 //!   rules were chosen with.
 //! - [`Planner`], [`act_batch`]: what a planner is to its callers, and one action per
@@ -21,10 +23,12 @@ mod distance;
 mod error;
 mod geometry;
 pub mod identify_planner;
+pub mod map_planner;
 mod numeric;
 pub mod probe_planner;
 
 pub use batch::{act_batch, Planner};
 pub use error::PlannerError;
 pub use identify_planner::IdentifyPlanner;
+pub use map_planner::MapPlanner;
 pub use probe_planner::{PlannerObservation, ProbePlanner};

@@ -79,6 +79,20 @@ pub(super) enum ContactRule {
     FingerSide,
 }
 
+/// How the planner's belief reads the observed map (as the GPIS mean and std, m).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum MapReading {
+    /// The GPIS map's mean and std as they are.
+    Gpis,
+    /// The occupancy grid as a map of signed distance: a cell at or above `OCCUPIED` a jar
+    /// (mean −0.01), one at or below 1 − `OCCUPIED` free (0.03), both known (std 0); the
+    /// rest unknown (mean 0.01, std 0.05). The occupancy mapper's belief.
+    Occupancy,
+}
+
+/// The occupancy above which a cell counts as a jar, and below 1 minus which as free.
+pub(super) const OCCUPIED: f64 = 0.55;
+
 /// A probe as its finger path: in along lane `x` to wrist depth `y`, then a turn of
 /// `angle` rad towards `side` (+1: +x).
 #[derive(Debug, Clone, Copy)]
@@ -102,6 +116,7 @@ pub(super) struct Candidate {
 pub struct ProbePlanner {
     statics: Arc<Statics>,
     contact_rule: ContactRule,
+    reading: MapReading,
     belief: Option<Belief>,
     chosen: Option<[i64; 3]>,
 }
@@ -120,16 +135,25 @@ impl ProbePlanner {
     /// The planner of episodes of `config`, which must have the GPIS map and the `probe`
     /// action mode.
     pub fn new(config: &EpisodeConfig) -> Result<Self, PlannerError> {
-        Self::with_contact_rule(config, ContactRule::FingerAxis)
+        Self::with_rules(config, ContactRule::FingerAxis, MapReading::Gpis)
     }
 
-    /// [`ProbePlanner::new`] putting clipped contacts back by `contact_rule`.
-    pub(super) fn with_contact_rule(
+    /// [`ProbePlanner::new`] putting clipped contacts back by `contact_rule` and reading the
+    /// map by `reading` (the settings' map must be the one it reads).
+    pub(super) fn with_rules(
         config: &EpisodeConfig,
         contact_rule: ContactRule,
+        reading: MapReading,
     ) -> Result<Self, PlannerError> {
-        if config.map.mode != MapMode::Gpis {
-            return Err(PlannerError::NeedsGpisMap(config.map.mode.name()));
+        let wanted = match reading {
+            MapReading::Gpis => MapMode::Gpis,
+            MapReading::Occupancy => MapMode::Occupancy,
+        };
+        if config.map.mode != wanted {
+            return Err(PlannerError::NeedsMap {
+                wanted: wanted.name(),
+                got: config.map.mode.name(),
+            });
         }
         if config.action_mode != ActionMode::Probe {
             return Err(PlannerError::NeedsProbeActions(config.action_mode.name()));
@@ -144,6 +168,7 @@ impl ProbePlanner {
                 geometry,
             }),
             contact_rule,
+            reading,
             belief: None,
             chosen: None,
         })
@@ -180,12 +205,37 @@ impl ProbePlanner {
         Ok(())
     }
 
-    fn decode_map(&self, image: &[u8]) -> Result<(Vec<f64>, Vec<f64>), PlannerError> {
+    /// The map image's channels, decoded (physical values per cell).
+    pub(super) fn decode_channels(
+        &self,
+        image: &[u8],
+    ) -> Result<Vec<(&'static str, Vec<f64>)>, PlannerError> {
         let cells = self.statics.geometry.xs.len();
-        let mut channels = decode_image(&self.statics.config.map, cells, image)?.into_iter();
-        match (channels.next(), channels.next()) {
-            (Some(("mean", mean)), Some(("std", std))) => Ok((mean, std)),
-            _ => unreachable!("the gpis map decodes to its mean and std"),
+        Ok(decode_image(&self.statics.config.map, cells, image)?)
+    }
+
+    /// The map image as the belief reads it: the mean and std (see [`MapReading`]).
+    fn decode_map(&self, image: &[u8]) -> Result<(Vec<f64>, Vec<f64>), PlannerError> {
+        let mut channels = self.decode_channels(image)?.into_iter();
+        match (self.reading, channels.next(), channels.next()) {
+            (MapReading::Gpis, Some(("mean", mean)), Some(("std", std))) => Ok((mean, std)),
+            (MapReading::Occupancy, Some(("occupied", occupied)), None) => {
+                let known = |p: f64| (p - 0.5).abs() >= OCCUPIED - 0.5;
+                let mean = occupied
+                    .iter()
+                    .map(|&p| match (p >= OCCUPIED, known(p)) {
+                        (true, _) => -0.01,
+                        (false, true) => 0.03,
+                        (false, false) => 0.01,
+                    })
+                    .collect();
+                let std = occupied
+                    .iter()
+                    .map(|&p| if known(p) { 0.0 } else { 0.05 })
+                    .collect();
+                Ok((mean, std))
+            }
+            _ => unreachable!("the settings' map is the one the planner reads"),
         }
     }
 
@@ -393,38 +443,17 @@ impl ProbePlanner {
         // sweep marks), not the wider ring within a jar radius of the finger: that ring is
         // never cleared, and counting it made a probe worth repeating.
         let hit = Belief::sweep_radius(g);
-        let mut covered = Vec::new();
         for relaxed in [false, true] {
             let weight = belief.hiding_weight(g, relaxed);
-            let cells: Vec<usize> = (0..weight.len()).filter(|&k| weight[k] > 0.0).collect();
             let mut best: Option<[i64; 3]> = None;
             let mut best_score = 0.0;
-            let mut wrist = None;
-            let mut seen_from = Vec::with_capacity(cells.len());
-            for candidate in &candidates {
-                let probe = &candidate.probe;
-                if wrist != Some([probe.x, probe.y]) {
-                    wrist = Some([probe.x, probe.y]);
-                    // The cells some probe at this wrist position may cover, in order.
-                    seen_from.clear();
-                    seen_from.extend(cells.iter().filter_map(|&k| {
-                        let from = FromWrist::new(g, [probe.x, probe.y], [g.xs[k], g.ys[k]], hit);
-                        from.may_be_covered(g, hit).then_some((k, from))
-                    }));
-                }
-                covered.clear();
-                covered.extend(
-                    seen_from
-                        .iter()
-                        .filter(|(_, from)| from.covered(g, probe.side, probe.angle, hit))
-                        .map(|&(k, _)| weight[k]),
-                );
-                let score = pairwise_sum(&covered) / (candidate.motions + COST_OFFSET);
+            self.path_weights(&candidates, &weight, hit, |candidate, covered| {
+                let score = covered / (candidate.motions + COST_OFFSET);
                 if score > best_score {
                     best = Some(candidate.action);
                     best_score = score;
                 }
-            }
+            });
             if let Some(best) = best {
                 return best;
             }
@@ -437,9 +466,46 @@ impl ProbePlanner {
         ]
     }
 
+    /// Calls `visit` with each of `candidates` in order and the sum of `weight` (per cell,
+    /// ≥ 0) over the cells within `hit` of its finger's path (numpy's sum over the cells in
+    /// order: the weights its finger passes).
+    pub(super) fn path_weights(
+        &self,
+        candidates: &[Candidate],
+        weight: &[f64],
+        hit: f64,
+        mut visit: impl FnMut(&Candidate, f64),
+    ) {
+        let g = &self.statics.geometry;
+        let cells: Vec<usize> = (0..weight.len()).filter(|&k| weight[k] > 0.0).collect();
+        let mut covered = Vec::new();
+        let mut wrist = None;
+        let mut seen_from = Vec::with_capacity(cells.len());
+        for candidate in candidates {
+            let probe = &candidate.probe;
+            if wrist != Some([probe.x, probe.y]) {
+                wrist = Some([probe.x, probe.y]);
+                // The cells some probe at this wrist position may cover, in order.
+                seen_from.clear();
+                seen_from.extend(cells.iter().filter_map(|&k| {
+                    let from = FromWrist::new(g, [probe.x, probe.y], [g.xs[k], g.ys[k]], hit);
+                    from.may_be_covered(g, hit).then_some((k, from))
+                }));
+            }
+            covered.clear();
+            covered.extend(
+                seen_from
+                    .iter()
+                    .filter(|(_, from)| from.covered(g, probe.side, probe.angle, hit))
+                    .map(|&(k, _)| weight[k]),
+            );
+            visit(candidate, pairwise_sum(&covered));
+        }
+    }
+
     /// Every grid probe the wrist and arm can make from `pose` without coming near a cell
     /// that may hold a jar, its sweep no wider than the largest safe turn, except a wait.
-    fn candidates(&self, pose: &Pose) -> Vec<Candidate> {
+    pub(super) fn candidates(&self, pose: &Pose) -> Vec<Candidate> {
         self.clear_probes(pose, &self.belief().solid(0.0))
     }
 
