@@ -155,7 +155,7 @@ impl<P: Planner + Clone> PlannerBatch<P> {
 /// A Python class over a [`PlannerBatch`] of one planner type: `new(config, num_envs)`,
 /// `__len__`, `reset(index, map, proprio)`, `act(maps, proprio)` and `follow(index, probe)`.
 macro_rules! planner_class {
-    ($(#[$doc:meta])* $class:ident, $name:literal, $planner:ty, act: $act_doc:literal) => {
+    ($(#[$doc:meta])* $class:ident, $name:literal, $planner:ty, acts: $actions:literal) => {
         $(#[$doc])*
         #[pyclass(name = $name, module = "tactile_search._core", frozen)]
         pub struct $class(PlannerBatch<$planner>);
@@ -184,7 +184,11 @@ macro_rules! planner_class {
                 self.0.reset(py, index, map, proprio)
             }
 
-            #[doc = $act_doc]
+            #[doc = concat!(
+                "Every episode's next action for its observation after the last probe: `maps` ",
+                "`(n, C, H, W)` uint8 and `proprio` `(n, 11)` float32, one row per episode; ",
+                "an int64 array of ", $actions, ". The planners run in parallel."
+            )]
             fn act<'py>(
                 &self,
                 py: Python<'py>,
@@ -212,9 +216,7 @@ planner_class!(
     PyProbePlanner,
     "ProbePlanner",
     ProbePlanner,
-    act: "Every episode's next probe for its observation after the last probe: `maps` \
-          `(n, C, H, W)` uint8 and `proprio` `(n, 11)` float32, one row per episode; an \
-          `(n, 3)` int64 array of (lane, depth, sweep). The planners run in parallel."
+    acts: "`(n, 3)`: (lane, depth, sweep)"
 );
 
 planner_class!(
@@ -225,9 +227,7 @@ planner_class!(
     PyIdentifyPlanner,
     "IdentifyPlanner",
     IdentifyPlanner,
-    act: "Every episode's next action for its observation after the last probe: `maps` \
-          `(n, C, H, W)` uint8 and `proprio` `(n, 11)` float32, one row per episode; an \
-          `(n, 4)` int64 array of (lane, depth, sweep, claim). The planners run in parallel."
+    acts: "`(n, 4)`: (lane, depth, sweep, claim)"
 );
 
 planner_class!(
@@ -238,7 +238,5 @@ planner_class!(
     PyMapPlanner,
     "MapPlanner",
     MapPlanner,
-    act: "Every episode's next probe for its observation after the last probe: `maps` \\
-          `(n, C, H, W)` uint8 and `proprio` `(n, 11)` float32, one row per episode; an \\
-          `(n, 3)` int64 array of (lane, depth, sweep). The planners run in parallel."
+    acts: "`(n, 3)`: (lane, depth, sweep)"
 );

@@ -26,53 +26,34 @@ pub trait Planner: Send {
     fn follow(&mut self, probe: [i64; 3]) -> Result<(), PlannerError>;
 }
 
-impl Planner for ProbePlanner {
-    type Action = [i64; 3];
+/// `impl Planner` for a planner type whose inherent `reset`, `act` and `follow` are the
+/// trait's.
+macro_rules! planner_impl {
+    ($planner:ty, $action:ty) => {
+        impl Planner for $planner {
+            type Action = $action;
 
-    fn reset(&mut self, observation: PlannerObservation<'_>) -> Result<(), PlannerError> {
-        ProbePlanner::reset(self, observation)
-    }
+            fn reset(&mut self, observation: PlannerObservation<'_>) -> Result<(), PlannerError> {
+                <$planner>::reset(self, observation)
+            }
 
-    fn act(&mut self, observation: PlannerObservation<'_>) -> Result<[i64; 3], PlannerError> {
-        ProbePlanner::act(self, observation)
-    }
+            fn act(
+                &mut self,
+                observation: PlannerObservation<'_>,
+            ) -> Result<$action, PlannerError> {
+                <$planner>::act(self, observation)
+            }
 
-    fn follow(&mut self, probe: [i64; 3]) -> Result<(), PlannerError> {
-        ProbePlanner::follow(self, probe)
-    }
+            fn follow(&mut self, probe: [i64; 3]) -> Result<(), PlannerError> {
+                <$planner>::follow(self, probe)
+            }
+        }
+    };
 }
 
-impl Planner for IdentifyPlanner {
-    type Action = [i64; 4];
-
-    fn reset(&mut self, observation: PlannerObservation<'_>) -> Result<(), PlannerError> {
-        IdentifyPlanner::reset(self, observation)
-    }
-
-    fn act(&mut self, observation: PlannerObservation<'_>) -> Result<[i64; 4], PlannerError> {
-        IdentifyPlanner::act(self, observation)
-    }
-
-    fn follow(&mut self, probe: [i64; 3]) -> Result<(), PlannerError> {
-        IdentifyPlanner::follow(self, probe)
-    }
-}
-
-impl Planner for MapPlanner {
-    type Action = [i64; 3];
-
-    fn reset(&mut self, observation: PlannerObservation<'_>) -> Result<(), PlannerError> {
-        MapPlanner::reset(self, observation)
-    }
-
-    fn act(&mut self, observation: PlannerObservation<'_>) -> Result<[i64; 3], PlannerError> {
-        MapPlanner::act(self, observation)
-    }
-
-    fn follow(&mut self, probe: [i64; 3]) -> Result<(), PlannerError> {
-        MapPlanner::follow(self, probe)
-    }
-}
+planner_impl!(ProbePlanner, [i64; 3]);
+planner_impl!(IdentifyPlanner, [i64; 4]);
+planner_impl!(MapPlanner, [i64; 3]);
 
 /// Each planner's next action for its observation, the planners run in parallel on rayon's
 /// pool (one planner per task: each is independent, so the actions do not depend on the

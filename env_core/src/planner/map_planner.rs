@@ -18,7 +18,9 @@
 //! The rules are the Python mappers' (`agents/scripted/map_probe.py`), in their float order.
 
 use super::error::PlannerError;
-use super::probe_planner::{ContactRule, MapReading, PlannerObservation, ProbePlanner};
+use std::sync::Arc;
+
+use super::probe_planner::{ContactRule, MapReading, PlannerObservation, ProbePaths, ProbePlanner};
 use crate::episode::maps::MapMode;
 use crate::episode::EpisodeConfig;
 
@@ -30,6 +32,8 @@ const PATH_HALF_WIDTH: f64 = 0.01;
 pub struct MapPlanner {
     search: ProbePlanner,
     reading: MapReading,
+    /// The cells each grid probe's finger passes within `PATH_HALF_WIDTH` (clones share it).
+    paths: Arc<ProbePaths>,
     /// The probes chosen this episode (each is chosen once).
     tried: Vec<[i64; 3]>,
 }
@@ -42,8 +46,10 @@ impl MapPlanner {
             MapMode::Occupancy => MapReading::Occupancy,
             _ => MapReading::Gpis,
         };
+        let search = ProbePlanner::with_rules(config, ContactRule::FingerAxis, reading)?;
         Ok(Self {
-            search: ProbePlanner::with_rules(config, ContactRule::FingerAxis, reading)?,
+            paths: Arc::new(ProbePaths::new(search.geometry(), PATH_HALF_WIDTH)),
+            search,
             reading,
             tried: Vec::new(),
         })
@@ -71,7 +77,7 @@ impl MapPlanner {
             .filter(|c| !tried.contains(&c.action))
             .collect();
         self.search
-            .path_weights(&untried, &weight, PATH_HALF_WIDTH, |candidate, score| {
+            .path_weights(&untried, &weight, &self.paths, |candidate, score| {
                 if score > best_score {
                     best = Some(candidate.action);
                     best_score = score;

@@ -129,6 +129,55 @@ struct Statics {
     geometry: PlannerGeometry,
     layout: FieldLayout,
     turns: TurnProbe,
+    /// The cells each grid probe's finger passes within the sweep radius (its score).
+    search_paths: ProbePaths,
+}
+
+/// For every probe of the grid (by its row-major action index), the map cells within `hit`
+/// of its finger's path ([`covers`]), in ascending order: what the settings fix of a
+/// probe's score, so that an act sums the weights of its cells instead of testing every
+/// cell against every probe.
+#[derive(Debug)]
+pub(super) struct ProbePaths {
+    cells: Vec<Vec<u32>>,
+}
+
+impl ProbePaths {
+    /// The paths of `g`'s probe grid within `hit`.
+    pub(super) fn new(g: &PlannerGeometry, hit: f64) -> Self {
+        let sweeps: Vec<(f64, f64)> = g
+            .probe_yaws
+            .iter()
+            .map(|&yaw| (if yaw < 0.0 { 1.0 } else { -1.0 }, yaw.abs()))
+            .collect();
+        let mut cells =
+            Vec::with_capacity(g.probe_lanes.len() * g.probe_depths.len() * sweeps.len());
+        for &x in &g.probe_lanes {
+            for &y in &g.probe_depths {
+                let first = cells.len();
+                cells.resize(first + sweeps.len(), Vec::new());
+                for k in 0..g.xs.len() {
+                    let from = FromWrist::new(g, [x, y], [g.xs[k], g.ys[k]], hit);
+                    if !from.may_be_covered(g, hit) {
+                        continue;
+                    }
+                    for (sweep, &(side, angle)) in sweeps.iter().enumerate() {
+                        if from.covered(g, side, angle, hit) {
+                            cells[first + sweep].push(k as u32);
+                        }
+                    }
+                }
+            }
+        }
+        Self { cells }
+    }
+
+    /// The cells probe `action` passes.
+    fn of(&self, g: &PlannerGeometry, action: [i64; 3]) -> &[u32] {
+        let [lane, depth, sweep] = action.map(|i| i as usize);
+        let index = (lane * g.probe_depths.len() + depth) * g.probe_yaws.len() + sweep;
+        &self.cells[index]
+    }
 }
 
 impl ProbePlanner {
@@ -164,6 +213,7 @@ impl ProbePlanner {
             statics: Arc::new(Statics {
                 config: config.clone(),
                 turns: TurnProbe::new(&geometry, &layout),
+                search_paths: ProbePaths::new(&geometry, Belief::sweep_radius(&geometry)),
                 layout,
                 geometry,
             }),
@@ -442,12 +492,12 @@ impl ProbePlanner {
         // Count what a probe that touches nothing clears from the belief (the cells its
         // sweep marks), not the wider ring within a jar radius of the finger: that ring is
         // never cleared, and counting it made a probe worth repeating.
-        let hit = Belief::sweep_radius(g);
         for relaxed in [false, true] {
             let weight = belief.hiding_weight(g, relaxed);
             let mut best: Option<[i64; 3]> = None;
             let mut best_score = 0.0;
-            self.path_weights(&candidates, &weight, hit, |candidate, covered| {
+            let paths = &self.statics.search_paths;
+            self.path_weights(&candidates, &weight, paths, |candidate, covered| {
                 let score = covered / (candidate.motions + COST_OFFSET);
                 if score > best_score {
                     best = Some(candidate.action);
@@ -467,37 +517,25 @@ impl ProbePlanner {
     }
 
     /// Calls `visit` with each of `candidates` in order and the sum of `weight` (per cell,
-    /// ≥ 0) over the cells within `hit` of its finger's path (numpy's sum over the cells in
-    /// order: the weights its finger passes).
+    /// ≥ 0) over the cells its finger's path passes (`paths`), numpy's sum over those of
+    /// positive weight in cell order: the weights its finger passes.
     pub(super) fn path_weights(
         &self,
         candidates: &[Candidate],
         weight: &[f64],
-        hit: f64,
+        paths: &ProbePaths,
         mut visit: impl FnMut(&Candidate, f64),
     ) {
         let g = &self.statics.geometry;
-        let cells: Vec<usize> = (0..weight.len()).filter(|&k| weight[k] > 0.0).collect();
         let mut covered = Vec::new();
-        let mut wrist = None;
-        let mut seen_from = Vec::with_capacity(cells.len());
         for candidate in candidates {
-            let probe = &candidate.probe;
-            if wrist != Some([probe.x, probe.y]) {
-                wrist = Some([probe.x, probe.y]);
-                // The cells some probe at this wrist position may cover, in order.
-                seen_from.clear();
-                seen_from.extend(cells.iter().filter_map(|&k| {
-                    let from = FromWrist::new(g, [probe.x, probe.y], [g.xs[k], g.ys[k]], hit);
-                    from.may_be_covered(g, hit).then_some((k, from))
-                }));
-            }
             covered.clear();
             covered.extend(
-                seen_from
+                paths
+                    .of(g, candidate.action)
                     .iter()
-                    .filter(|(_, from)| from.covered(g, probe.side, probe.angle, hit))
-                    .map(|&(k, _)| weight[k]),
+                    .map(|&k| weight[k as usize])
+                    .filter(|&w| w > 0.0),
             );
             visit(candidate, pairwise_sum(&covered));
         }
