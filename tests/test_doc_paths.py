@@ -1,8 +1,9 @@
 """Every repository path the docs, comments and docstrings name exists.
 
-Scanned: ``README.md`` and ``docs/*.md`` whole (code blocks too: a command's paths must be
-true), and the comments and docstrings of every ``*.rs``, ``*.py``, ``*.yml`` and the
-``Makefile`` (string literals in code are not prose and are not read). Skipped: what is
+Scanned: ``README.md``, ``CONTRIBUTING.md`` and ``docs/*.md`` whole (code blocks too: a
+command's paths must be true), and the comments and docstrings of every ``*.rs``, ``*.py``,
+``*.yml`` and the ``Makefile`` (string literals in code are not prose and are not read).
+Skipped: what is
 generated or not ours (``.git``, ``.venv``, ``target``, ``runs``, ``results``, caches,
 ``docs/results/`` and ``docs/paper/``, written by ``make results`` and ``make paper``).
 
@@ -167,9 +168,10 @@ def repository_paths(root: Path) -> set[str]:
 
 
 def scanned_files(root: Path) -> list[Path]:
-    """README.md, docs/*.md and every .rs, .py, .yml and Makefile outside the skipped
-    folders."""
-    files = [root / "README.md", *sorted((root / "docs").glob("*.md"))]
+    """README.md, CONTRIBUTING.md, docs/*.md and every .rs, .py, .yml and Makefile outside
+    the skipped folders."""
+    pages = [root / "README.md", root / "CONTRIBUTING.md", *sorted((root / "docs").glob("*.md"))]
+    files = [page for page in pages if page.exists()]
     for path in sorted(root.rglob("*")):
         relative = path.relative_to(root).as_posix()
         parts = Path(relative).parts[:-1]
