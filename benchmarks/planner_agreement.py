@@ -24,15 +24,14 @@ import numpy as np
 
 from agents.scripted import CORE_PLANNERS, SCRIPTED_TASKS
 from benchmarks.arguments import positive_int
-from tactile_search import CupboardSearchEnv
+from tactile_search import CupboardSearchEnv, registered_envs
 from tactile_search.seed_ranges import VALIDATION
 
-#: The env id a planner runs on unless told, by its task.
-TASK_IDS = {
-    "search": "tactile_search/CupboardSearch-v0",
-    "identify": "tactile_search/IdentifyByTouch-v0",
-    "map": "tactile_search/MapByTouch-v0",
-}
+
+def first_id_of(task: str) -> str:
+    """The first registered id of ``task`` (the core's table of ids): the one a planner of
+    that task runs on unless told."""
+    return next(env["id"] for env in registered_envs() if env["task"] == task)
 
 
 def planner_settings(
@@ -41,7 +40,7 @@ def planner_settings(
     """The env id (``env_id``, else the planner's task's id) and its settings in the
     planner's map and action mode; a parser error for an id of another task."""
     face = CORE_PLANNERS[planner][0]
-    env_id = env_id or TASK_IDS[SCRIPTED_TASKS[planner][0]]
+    env_id = env_id or first_id_of(SCRIPTED_TASKS[planner][0])
     settings = {**gym.spec(env_id).kwargs, **face.env_kwargs}
     task = CupboardSearchEnv(**settings).config.task
     if task not in SCRIPTED_TASKS[planner]:

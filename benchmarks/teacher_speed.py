@@ -15,8 +15,8 @@ Rows, each over whole episodes (resets included):
   episodes (it is slow);
 - ``vector random`` and ``vector core planner``: a vector env of ``--num-envs`` episodes on
   every core, random probes or the core's planner over the whole batch
-  (the core's class, ``ProbePlanner(config, n)`` or ``IdentifyPlanner(config, n)``: one
-  planner per episode, acting in parallel).
+  (the face's core class, ``ProbePlanner``, ``IdentifyPlanner`` or ``MapPlanner`` made as
+  ``(config, n)``: one planner per episode, acting in parallel).
 
 It prints probes/s per row and the planner's rate as a share of the random rate beside it::
 

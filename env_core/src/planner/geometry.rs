@@ -94,4 +94,23 @@ impl PlannerGeometry {
     pub fn forward(yaw: f64) -> [f64; 2] {
         [-yaw.sin(), yaw.cos()]
     }
+
+    /// The finger's joint for the wrist at `wrist` turned to `yaw`.
+    pub fn joint(&self, wrist: [f64; 2], yaw: f64) -> [f64; 2] {
+        let forward = Self::forward(yaw);
+        [
+            wrist[0] + self.joint_offset * forward[0],
+            wrist[1] + self.joint_offset * forward[1],
+        ]
+    }
+
+    /// The probe a planner falls back to when nothing is worth a probe: straight in at the
+    /// middle lane's opening.
+    pub fn opening_probe(&self) -> [i64; 3] {
+        [
+            (self.probe_lanes.len() / 2) as i64,
+            0,
+            (self.probe_yaws.len() / 2) as i64,
+        ]
+    }
 }

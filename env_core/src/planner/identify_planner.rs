@@ -250,11 +250,7 @@ impl IdentifyPlanner {
     fn tangency(&self, pose: &Pose, point: [f64; 2], normal: [f64; 2]) -> Option<f64> {
         let g = self.geometry();
         let direction = PlannerGeometry::forward(pose.yaw + pose.deflection);
-        let forward = PlannerGeometry::forward(pose.yaw);
-        let joint = [
-            pose.x + g.joint_offset * forward[0],
-            pose.y + g.joint_offset * forward[1],
-        ];
+        let joint = g.joint([pose.x, pose.y], pose.yaw);
         let along = dot([point[0] - joint[0], point[1] - joint[1]], direction);
         (SIDE_CONTACT[0]..=SIDE_CONTACT[1])
             .contains(&along)

@@ -20,7 +20,9 @@
 use super::error::PlannerError;
 use std::sync::Arc;
 
-use super::probe_planner::{ContactRule, MapReading, PlannerObservation, ProbePaths, ProbePlanner};
+use super::probe_planner::{
+    ContactRule, MapChannel, MapReading, PlannerObservation, ProbePaths, ProbePlanner,
+};
 use crate::episode::maps::MapMode;
 use crate::episode::EpisodeConfig;
 
@@ -31,7 +33,6 @@ const PATH_HALF_WIDTH: f64 = 0.01;
 #[derive(Debug, Clone)]
 pub struct MapPlanner {
     search: ProbePlanner,
-    reading: MapReading,
     /// The cells each grid probe's finger passes within `PATH_HALF_WIDTH` (clones share it).
     paths: Arc<ProbePaths>,
     /// The probes chosen this episode (each is chosen once).
@@ -50,7 +51,6 @@ impl MapPlanner {
         Ok(Self {
             paths: Arc::new(ProbePaths::new(search.geometry(), PATH_HALF_WIDTH)),
             search,
-            reading,
             tried: Vec::new(),
         })
     }
@@ -66,8 +66,17 @@ impl MapPlanner {
     /// finger passes the most weight; with no weight left, the first candidate not chosen
     /// yet, else straight in at the middle lane's opening.
     pub fn act(&mut self, observation: PlannerObservation<'_>) -> Result<[i64; 3], PlannerError> {
-        let pose = self.search.observe(observation)?;
-        let weight = self.cell_weight(observation.map)?;
+        let reading = self.search.reading();
+        let (pose, weight) = self
+            .search
+            .observe_reading(observation, |channels| cell_weight(reading, channels))?;
+        // Nothing where the finger already swept (the belief has taken this observation).
+        let swept = self.search.belief().swept();
+        let weight: Vec<f64> = weight
+            .into_iter()
+            .zip(swept)
+            .map(|(w, &swept)| if swept { 0.0 } else { w })
+            .collect();
         let candidates = self.search.candidates(&pose);
         let mut best: Option<[i64; 3]> = None;
         let mut best_score = 0.0;
@@ -85,14 +94,7 @@ impl MapPlanner {
             });
         let chosen = best
             .or_else(|| untried.first().map(|c| c.action))
-            .unwrap_or_else(|| {
-                let g = self.search.geometry();
-                [
-                    (g.probe_lanes.len() / 2) as i64,
-                    0,
-                    (g.probe_yaws.len() / 2) as i64,
-                ]
-            });
+            .unwrap_or_else(|| self.search.geometry().opening_probe());
         self.tried.push(chosen);
         self.search.set_chosen(chosen);
         Ok(chosen)
@@ -103,30 +105,23 @@ impl MapPlanner {
     pub fn follow(&mut self, probe: [i64; 3]) -> Result<(), PlannerError> {
         self.search.follow(probe)
     }
+}
 
-    /// Per map cell, what a finger passing it is worth (≥ 0), nothing where the finger
-    /// already swept.
-    fn cell_weight(&self, image: &[u8]) -> Result<Vec<f64>, PlannerError> {
-        let channels = self.search.decode_channels(image)?;
-        let channel = |name: &str| {
-            channels
-                .iter()
-                .find(|(n, _)| *n == name)
-                .map(|(_, values)| values)
-                .expect("the settings' map has the channel")
-        };
-        let weight = match self.reading {
-            MapReading::Gpis => channel("std").clone(),
-            MapReading::Occupancy => channel("occupied")
-                .iter()
-                .map(|&p| 1.0 - 2.0 * (p - 0.5).abs())
-                .collect(),
-        };
-        let swept = self.search.belief().swept();
-        Ok(weight
-            .into_iter()
-            .zip(swept)
-            .map(|(w, &swept)| if swept { 0.0 } else { w })
-            .collect())
+/// Per map cell, what a finger passing it is worth (≥ 0), from the map's decoded
+/// `channels` read by `reading`: the GPIS std, or how unknown an occupancy is.
+fn cell_weight(reading: MapReading, channels: &[MapChannel]) -> Vec<f64> {
+    let channel = |name: &str| {
+        channels
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, values)| values)
+            .expect("the settings' map has the channel")
+    };
+    match reading {
+        MapReading::Gpis => channel("std").clone(),
+        MapReading::Occupancy => channel("occupied")
+            .iter()
+            .map(|&p| 1.0 - 2.0 * (p - 0.5).abs())
+            .collect(),
     }
 }

@@ -90,6 +90,9 @@ pub(super) enum MapReading {
     Occupancy,
 }
 
+/// A decoded map channel: its name and its physical value per cell.
+pub(super) type MapChannel = (&'static str, Vec<f64>);
+
 /// The occupancy above which a cell counts as a jar, and below 1 minus which as free.
 pub(super) const OCCUPIED: f64 = 0.55;
 
@@ -256,19 +259,26 @@ impl ProbePlanner {
     }
 
     /// The map image's channels, decoded (physical values per cell).
-    pub(super) fn decode_channels(
-        &self,
-        image: &[u8],
-    ) -> Result<Vec<(&'static str, Vec<f64>)>, PlannerError> {
+    fn decode_channels(&self, image: &[u8]) -> Result<Vec<MapChannel>, PlannerError> {
         let cells = self.statics.geometry.xs.len();
         Ok(decode_image(&self.statics.config.map, cells, image)?)
     }
 
+    /// How the planner reads the map.
+    pub(super) fn reading(&self) -> MapReading {
+        self.reading
+    }
+
     /// The map image as the belief reads it: the mean and std (see [`MapReading`]).
     fn decode_map(&self, image: &[u8]) -> Result<(Vec<f64>, Vec<f64>), PlannerError> {
-        let mut channels = self.decode_channels(image)?.into_iter();
+        Ok(self.belief_map(self.decode_channels(image)?))
+    }
+
+    /// Decoded channels as the belief reads them: the mean and std (see [`MapReading`]).
+    fn belief_map(&self, channels: Vec<MapChannel>) -> (Vec<f64>, Vec<f64>) {
+        let mut channels = channels.into_iter();
         match (self.reading, channels.next(), channels.next()) {
-            (MapReading::Gpis, Some(("mean", mean)), Some(("std", std))) => Ok((mean, std)),
+            (MapReading::Gpis, Some(("mean", mean)), Some(("std", std))) => (mean, std),
             (MapReading::Occupancy, Some(("occupied", occupied)), None) => {
                 let known = |p: f64| (p - 0.5).abs() >= OCCUPIED - 0.5;
                 let mean = occupied
@@ -283,7 +293,7 @@ impl ProbePlanner {
                     .iter()
                     .map(|&p| if known(p) { 0.0 } else { 0.05 })
                     .collect();
-                Ok((mean, std))
+                (mean, std)
             }
             _ => unreachable!("the settings' map is the one the planner reads"),
         }
@@ -305,17 +315,29 @@ impl ProbePlanner {
         &mut self,
         observation: PlannerObservation<'_>,
     ) -> Result<Pose, PlannerError> {
+        Ok(self.observe_reading(observation, |_| ())?.0)
+    }
+
+    /// [`ProbePlanner::observe`], also returning what `read` makes of the observation's
+    /// decoded map channels (read before the belief takes them: the image is decoded once).
+    pub(super) fn observe_reading<T>(
+        &mut self,
+        observation: PlannerObservation<'_>,
+        read: impl FnOnce(&[MapChannel]) -> T,
+    ) -> Result<(Pose, T), PlannerError> {
         if self.belief.is_none() {
             return Err(PlannerError::NotReset);
         }
-        let (mean, std) = self.decode_map(observation.map)?;
+        let channels = self.decode_channels(observation.map)?;
+        let reading = read(&channels);
+        let (mean, std) = self.belief_map(channels);
         self.belief_mut().update(mean, std);
         let pose = self.pose(observation.proprio);
         if let Some(chosen) = self.chosen {
             self.sweep_probe_path(chosen, &pose);
         }
         self.remember_touch(&pose);
-        Ok(pose)
+        Ok((pose, reading))
     }
 
     pub(super) fn belief(&self) -> &Belief {
@@ -392,11 +414,7 @@ impl ProbePlanner {
         if clipped[0] && clipped[1] || direction[axis].abs() < WELL_CONDITIONED {
             return None;
         }
-        let forward = PlannerGeometry::forward(yaw);
-        let joint = [
-            wrist[0] + g.joint_offset * forward[0],
-            wrist[1] + g.joint_offset * forward[1],
-        ];
+        let joint = g.joint(wrist, yaw);
         let side = normal.map(|n| -g.finger_half_thickness * n);
         let along = (wrist[axis] + offset[axis] - joint[axis] - side[axis]) / direction[axis];
         let along = along.clamp(0.0, g.finger_length);
@@ -416,11 +434,7 @@ impl ProbePlanner {
         if !clipped[0] && !clipped[1] {
             return point;
         }
-        let forward = PlannerGeometry::forward(yaw);
-        let joint = [
-            wrist[0] + g.joint_offset * forward[0],
-            wrist[1] + g.joint_offset * forward[1],
-        ];
+        let joint = g.joint(wrist, yaw);
         let direction = PlannerGeometry::forward(heading);
         let mut along = g.finger_length;
         for axis in 0..2 {
@@ -438,11 +452,7 @@ impl ProbePlanner {
     /// Adds a touched jar, or the finger where it is (touching nothing), to the belief.
     fn remember_touch(&mut self, pose: &Pose) {
         let g = &self.statics.geometry;
-        let forward = PlannerGeometry::forward(pose.yaw);
-        let joint = [
-            pose.x + g.joint_offset * forward[0],
-            pose.y + g.joint_offset * forward[1],
-        ];
+        let joint = g.joint([pose.x, pose.y], pose.yaw);
         let heading = PlannerGeometry::forward(pose.yaw + pose.deflection);
         let tip = [
             joint[0] + g.finger_length * heading[0],
@@ -509,11 +519,7 @@ impl ProbePlanner {
             }
         }
         // Nothing left to cover: straight in at the middle lane's opening.
-        [
-            (g.probe_lanes.len() / 2) as i64,
-            0,
-            (g.probe_yaws.len() / 2) as i64,
-        ]
+        g.opening_probe()
     }
 
     /// Calls `visit` with each of `candidates` in order and the sum of `weight` (per cell,
