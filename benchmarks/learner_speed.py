@@ -20,9 +20,9 @@ cost per sample pass (µs: the update's time over ``n_epochs`` x probes), parame
 map grid the encoder keeps. With gymnasium's MuJoCo envs installed (the ``bench`` extra),
 each round also runs ``Pusher-v5`` with random actions for a few seconds and prints the
 trained probes/s over Pusher-v5's steps/s (the budgets of ``docs/DESIGN.md`` §5 are such
-ratios). The header says whether the CPU has AMX: a variant with
-``bfloat16_updates=true`` runs its update under bfloat16 autocast only there
-(``agents.sb3.bfloat16``).
+ratios). The header says whether the CPU computes bfloat16 natively (AMX or AVX-512's
+bfloat16): a variant with ``bfloat16_updates=true`` runs its update under bfloat16 autocast
+only there (``agents.sb3.bfloat16``).
 
 Variants are named ``NAME`` or ``NAME:key=value,key=value`` (recipe keys, values in YAML;
 ``env_kwargs.KEY`` sets one environment setting), e.g. ``space_to_depth:n_epochs=5``,
@@ -58,7 +58,7 @@ from typing import Any
 
 import yaml
 
-from agents.sb3.bfloat16 import cpu_has_amx_bf16
+from agents.sb3.bfloat16 import cpu_has_native_bf16
 from agents.sb3.recipes import load_hyperparams, new_model, training_class
 from agents.sb3.training_env import make_training_env
 from benchmarks.arguments import positive_int
@@ -326,7 +326,8 @@ def main(argv: list[str] | None = None) -> None:
         f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY')}, torch threads "
         f"{args.torch_threads}, env threads {args.env_threads}; {args.timesteps} probes per "
         f"variant per round, {args.rounds} rounds; torch {torch.__version__}, CPU capability "
-        f"{torch.backends.cpu.get_cpu_capability()}, AMX {'yes' if cpu_has_amx_bf16() else 'no'}",
+        f"{torch.backends.cpu.get_cpu_capability()}, native bfloat16 "
+        f"{'yes' if cpu_has_native_bf16() else 'no'}",
         flush=True,
     )
     for m in measured:  # warm-up: the first rollout and update, excluded
@@ -355,7 +356,7 @@ def main(argv: list[str] | None = None) -> None:
         figures = {
             "timesteps": args.timesteps, "rounds": args.rounds,
             "torch_threads": args.torch_threads, "env_threads": args.env_threads,
-            "torch": torch.__version__, "amx": cpu_has_amx_bf16(),
+            "torch": torch.__version__, "native_bf16": cpu_has_native_bf16(),
             "reference": rows[0]["reference"],
             "pusher_steps_per_s": statistics.median(pusher) if pusher else None,
             "variants": rows,

@@ -1,7 +1,8 @@
-"""The PPO update in bfloat16 where the CPU has AMX (``agents.sb3.bfloat16``): AMX is read
-from the CPU's flags, the update (and only the update) runs under autocast, the probe
-policies' logits and log-probabilities stay float32 under it, and a model trained so saves
-and loads as a plain PPO."""
+"""The learner's updates in bfloat16 where the CPU computes it natively
+(``agents.sb3.bfloat16``): that is read from the CPU's flags, PPO's update (and only the
+update) and the clone stage's cloning run under autocast, the probe policies' logits and
+log-probabilities stay float32 under it, and a model trained so saves and loads as a plain
+PPO."""
 
 from __future__ import annotations
 
@@ -17,7 +18,8 @@ from agents.sb3 import bfloat16
 from agents.sb3.bfloat16 import (
     BFloat16Updates,
     bfloat16_update_class,
-    cpu_has_amx_bf16,
+    cpu_has_native_bf16,
+    learner_precision,
     update_precision,
 )
 from agents.sb3.recipes import load_hyperparams, new_model, training_class
@@ -26,14 +28,24 @@ from tactile_search.networks.joint_probe import Float32Linear, JointCategoricalD
 from tactile_search.networks.recipe_classes import load_objects
 
 
-def test_amx_is_read_from_the_cpus_flags_not_from_a_substring(tmp_path: Path) -> None:
+def test_native_bfloat16_is_read_from_the_cpus_flags_not_from_a_substring(
+    tmp_path: Path,
+) -> None:
     cpuinfo = tmp_path / "cpuinfo"
-    cpuinfo.write_text("processor\t: 0\nflags\t\t: fpu avx512_bf16 amx_tile amx_bf16 sse\n")
-    assert cpu_has_amx_bf16(cpuinfo)
-    # avx512_bf16 (bfloat16 dot products without AMX tiles) is not AMX
-    cpuinfo.write_text("processor\t: 0\nflags\t\t: fpu avx512_bf16 amx_bf16x sse\n")
-    assert not cpu_has_amx_bf16(cpuinfo)
-    assert not cpu_has_amx_bf16(tmp_path / "missing")
+    cpuinfo.write_text("processor\t: 0\nflags\t\t: fpu amx_tile amx_bf16 sse\n")
+    assert cpu_has_native_bf16(cpuinfo)  # AMX tiles
+    cpuinfo.write_text("processor\t: 0\nflags\t\t: fpu avx512f avx512_bf16 sse\n")
+    assert cpu_has_native_bf16(cpuinfo)  # AVX-512's bfloat16 dot products
+    cpuinfo.write_text("processor\t: 0\nflags\t\t: fpu avx512f amx_bf16x avx512_bf16x\n")
+    assert not cpu_has_native_bf16(cpuinfo)
+    assert not cpu_has_native_bf16(tmp_path / "missing")
+
+
+def test_a_recipes_learner_precision_needs_its_flag_and_the_cpu() -> None:
+    assert learner_precision({"bfloat16_updates": True}, native=True) == "bfloat16"
+    assert learner_precision({"bfloat16_updates": True}, native=False) == "float32"
+    assert learner_precision({"bfloat16_updates": False}, native=True) == "float32"
+    assert learner_precision({}, native=True) == "float32"
 
 
 class RecordsAutocast:
@@ -46,19 +58,19 @@ class RecordsAutocast:
         return torch.is_autocast_enabled("cpu")
 
 
-def test_the_update_alone_runs_under_bfloat16_autocast_and_only_with_amx() -> None:
-    fast = bfloat16_update_class(RecordsAutocast, cpu_has_amx=True)
+def test_the_update_alone_runs_under_bfloat16_autocast_and_only_where_native() -> None:
+    fast = bfloat16_update_class(RecordsAutocast, native=True)
     algorithm = fast()
     algorithm.train()
     assert algorithm.seen == (True, torch.bfloat16)
     assert not algorithm.collect_rollouts()  # the rollouts stay float32
     assert not torch.is_autocast_enabled("cpu")  # and autocast ends with the update
     assert issubclass(fast, BFloat16Updates) and issubclass(fast, RecordsAutocast)
-    assert bfloat16_update_class(RecordsAutocast, cpu_has_amx=True) is fast  # one class
-    assert bfloat16_update_class(RecordsAutocast, cpu_has_amx=False) is RecordsAutocast
+    assert bfloat16_update_class(RecordsAutocast, native=True) is fast  # one class
+    assert bfloat16_update_class(RecordsAutocast, native=False) is RecordsAutocast
     assert (update_precision(fast), update_precision(RecordsAutocast)) == ("bfloat16", "float32")
     with pytest.raises(TypeError, match="SB3 algorithm class"):
-        bfloat16_update_class(RecordsAutocast(), cpu_has_amx=True)
+        bfloat16_update_class(RecordsAutocast(), native=True)
 
 
 def test_a_recipe_asks_for_bfloat16_updates_with_a_bool(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -66,11 +78,11 @@ def test_a_recipe_asks_for_bfloat16_updates_with_a_bool(monkeypatch: pytest.Monk
 
     assert training_class("ppo", {}) is PPO
     assert training_class("ppo", {"bfloat16_updates": False}) is PPO
-    monkeypatch.setattr(bfloat16, "cpu_has_amx_bf16", lambda: True)
+    monkeypatch.setattr(bfloat16, "cpu_has_native_bf16", lambda: True)
     fast = training_class("ppo", {"bfloat16_updates": True})
     assert issubclass(fast, PPO) and update_precision(fast) == "bfloat16"
-    monkeypatch.setattr(bfloat16, "cpu_has_amx_bf16", lambda: False)
-    assert training_class("ppo", {"bfloat16_updates": True}) is PPO  # no AMX: float32
+    monkeypatch.setattr(bfloat16, "cpu_has_native_bf16", lambda: False)
+    assert training_class("ppo", {"bfloat16_updates": True}) is PPO  # emulated: float32
     with pytest.raises(TypeError, match="bfloat16_updates must be a bool, got str"):
         training_class("ppo", {"bfloat16_updates": "yes"})
 
@@ -99,7 +111,7 @@ def test_ppo_trains_with_bfloat16_updates_and_loads_as_plain_ppo(tmp_path: Path)
     recipe = load_hyperparams("ppo", "gpis")
     recipe.update(n_steps=8, batch_size=16, n_epochs=1)
     env = make_training_env(recipe["env_kwargs"], 2, seed=0, threads=1)
-    model = new_model(bfloat16_update_class(PPO, cpu_has_amx=True), recipe, env, seed=0)
+    model = new_model(bfloat16_update_class(PPO, native=True), recipe, env, seed=0)
     before = [p.detach().clone() for p in model.policy.parameters()]
     model.learn(16)
     after = list(model.policy.parameters())
@@ -111,3 +123,54 @@ def test_ppo_trains_with_bfloat16_updates_and_loads_as_plain_ppo(tmp_path: Path)
     loaded = PPO.load(tmp_path / "model.zip", device="cpu", custom_objects=load_objects(recipe))
     np.testing.assert_array_equal(loaded.predict(observation, deterministic=True)[0], action)
     env.close()
+
+
+def test_cloning_runs_its_passes_under_the_precision_it_is_given(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A bfloat16 pass evaluates the policy under autocast (a float32 one does not), its
+    losses and weights stay finite float32, and the two precisions train differently."""
+    from agents.imitation import cloning
+    from agents.imitation.cloning import CloningSettings, clone
+    from agents.imitation.demonstrations import Demonstrations
+
+    recipe = load_hyperparams("ppo", "gpis")
+    env = make_training_env(recipe["env_kwargs"], 2, seed=0, threads=1)
+    observation = env.reset()
+    env.close()
+    rows = 8
+    demonstrations = Demonstrations(
+        observations={k: np.repeat(v[:1], rows, axis=0) for k, v in observation.items()},
+        actions=np.tile([[3, 4, 5]], (rows, 1)),
+        returns=np.linspace(0.0, 1.0, rows, dtype=np.float32),
+        layout_seeds=np.arange(rows, dtype=np.int64),
+        episode_success=np.ones(rows, dtype=bool),
+        episode_tips=np.zeros(rows, dtype=np.int64),
+        episode_steps=np.zeros(rows, dtype=np.int64),
+    )
+    seen: list[bool] = []
+    evaluate = cloning._evaluate_actions
+
+    def recording(policy, batch):  # type: ignore[no-untyped-def]
+        seen.append(torch.is_autocast_enabled("cpu"))
+        return evaluate(policy, batch)
+
+    monkeypatch.setattr(cloning, "_evaluate_actions", recording)
+    settings = CloningSettings(epochs=2, batch_size=4)
+    weights = {}
+    for precision in ("float32", "bfloat16"):
+        seen.clear()
+        model = new_model(
+            training_class("ppo", recipe), recipe, make_training_env(recipe["env_kwargs"], 2, 0), 0
+        )
+        history = clone(model.policy, demonstrations, settings, precision=precision)
+        assert seen == [precision == "bfloat16"] * 4, precision
+        assert all(np.isfinite(row["nll"]) for row in history)
+        params = list(model.policy.parameters())
+        assert all(p.dtype == torch.float32 and torch.isfinite(p).all() for p in params)
+        weights[precision] = [p.detach().clone() for p in params]
+    assert any(
+        not torch.equal(a, b) for a, b in zip(weights["float32"], weights["bfloat16"], strict=True)
+    )
+    with pytest.raises(ValueError, match="precision must be one of"):
+        clone(model.policy, demonstrations, settings, precision="float16")

@@ -5,7 +5,10 @@ log-likelihood (``evaluate_actions``: the same heads PPO later fine-tunes, so no
 translated between a cloned network and the RL one), and its value head to the demonstrated
 returns, so that fine-tuning starts with a critic that knows the teacher's episodes
 (a value warm-up). A small entropy bonus keeps the heads from collapsing onto one probe
-where the teacher is undecided.
+where the teacher is undecided. Where the recipe asks for bfloat16 updates and the CPU
+computes bfloat16 natively (``agents.sb3.bfloat16.learner_precision``), the forward and
+backward passes run under bfloat16 autocast as PPO's update does; the logits, the
+log-likelihoods and the weights stay float32.
 """
 
 from __future__ import annotations
@@ -43,21 +46,30 @@ class CloningSettings:
             raise ValueError(f"learning_rate must be > 0, got {self.learning_rate!r}")
 
 
+#: The precisions a cloning pass runs in (``agents.sb3.bfloat16.learner_precision``).
+PRECISIONS = ("float32", "bfloat16")
+
+
 def clone(
     policy: Any,
     demonstrations: Demonstrations,
     settings: CloningSettings,
     progress: Any = None,
+    precision: str = "float32",
 ) -> list[dict]:
     """Trains ``policy`` (an SB3 ``ActorCriticPolicy``, or sb3-contrib's recurrent one) on
     ``demonstrations``; per epoch, the mean action negative log-likelihood, value loss and
     entropy. A recurrent policy learns from whole episodes: each minibatch is episodes in
     their order, its memory starting empty at each episode's first probe. ``progress(1)``
-    is called after each epoch (a progress bar's ``update``)."""
+    is called after each epoch (a progress bar's ``update``). ``precision`` ``bfloat16``
+    runs the passes under bfloat16 autocast (the weights stay float32)."""
     import torch
 
     if len(demonstrations) == 0:
         raise ValueError("clone needs at least one demonstration")
+    if precision not in PRECISIONS:
+        raise ValueError(f"precision must be one of {PRECISIONS}, got {precision!r}")
+    bfloat16 = precision == "bfloat16"
     optimizer = torch.optim.Adam(policy.parameters(), lr=settings.learning_rate)
     rng = np.random.default_rng(settings.seed)
     policy.set_training_mode(True)
@@ -67,10 +79,11 @@ def clone(
         for index in _minibatches(policy, demonstrations, settings.batch_size, rng):
             batch = demonstrations.rows(index)
             returns = torch.as_tensor(batch.returns, device=policy.device)
-            values, log_prob, entropy = _evaluate_actions(policy, batch)
-            nll = -log_prob.mean()
-            value_loss = torch.nn.functional.mse_loss(values.flatten(), returns)
-            mean_entropy = entropy.mean()
+            with torch.autocast("cpu", dtype=torch.bfloat16, enabled=bfloat16):
+                values, log_prob, entropy = _evaluate_actions(policy, batch)
+            nll = -log_prob.float().mean()
+            value_loss = torch.nn.functional.mse_loss(values.float().flatten(), returns)
+            mean_entropy = entropy.float().mean()
             loss = nll + settings.value_weight * value_loss - settings.entropy_weight * mean_entropy
             optimizer.zero_grad()
             loss.backward()

@@ -43,6 +43,7 @@ from agents.run_dir import (
     versions,
     write_run_config,
 )
+from agents.sb3.bfloat16 import learner_precision
 from agents.sb3.recipes import algorithm_class, load_hyperparams, new_model
 from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS, make_training_env
 from agents.scripted.geometry import Geometry
@@ -210,9 +211,11 @@ def imitate_into(
                 round_layouts, env_kwargs, gamma, student=acting, teacher=settings.teacher
             )
 
+    precision = learner_precision(recipe)
+
     def cloning(data: Demonstrations, cloning_settings: CloningSettings, stage: str) -> list:
         with stage_bar(stage, cloning_settings.epochs, "epoch", progress) as update:
-            return clone(policy, data, cloning_settings, progress=update)
+            return clone(policy, data, cloning_settings, progress=update, precision=precision)
 
     teacher_layouts = layouts[: settings.demo_episodes]
     if demonstrations_file is not None and Path(demonstrations_file).is_file():
@@ -242,6 +245,7 @@ def imitate_into(
         "versions": versions(),
         "code": code_version(),
         "machine": machine(),
+        "update_precision": precision,
         "imitation": {
             **settings.record(),
             "held_out_layouts": held_out.episodes,

@@ -11,7 +11,6 @@ import yaml
 
 from agents.run_dir import ALGORITHMS
 from tactile_search import ENV_ID
-from tactile_search._validation import as_bool
 from tactile_search.networks.recipe_classes import policy_class, policy_kwargs
 
 HYPERPARAMS_DIR = Path(__file__).parents[1] / "hyperparams"
@@ -47,14 +46,14 @@ def algorithm_class(algo: str) -> type:
 
 def training_class(algo: str, recipe: dict[str, Any]) -> type:
     """The class ``recipe`` trains ``algo`` with: ``algorithm_class(algo)``, its update under
-    bfloat16 autocast where the CPU has AMX if the recipe's ``bfloat16_updates`` is true
-    (``agents.sb3.bfloat16``)."""
-    cls = algorithm_class(algo)
-    if not as_bool("bfloat16_updates", recipe.get("bfloat16_updates", False)):
-        return cls
-    from agents.sb3.bfloat16 import bfloat16_update_class
+    bfloat16 autocast where the CPU computes bfloat16 natively if the recipe's
+    ``bfloat16_updates`` is true (``agents.sb3.bfloat16``)."""
+    from agents.sb3.bfloat16 import bfloat16_update_class, learner_precision
 
-    return bfloat16_update_class(cls)
+    cls = algorithm_class(algo)
+    if learner_precision(recipe) == "float32":
+        return cls
+    return bfloat16_update_class(cls, native=True)
 
 
 def load_hyperparams(
