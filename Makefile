@@ -85,7 +85,7 @@ stubs: $(VENV)/.extra-dev build ## regenerate the stub's settings part and docs/
 	$(PY) scripts/generate_stub.py
 	$(PY) scripts/environments_page.py
 
-lint: rust-lint python-lint ## cargo fmt --check, clippy -D warnings, ruff check and format --check, stub up to date
+lint: rust-lint python-lint ## cargo fmt --check, clippy -D warnings, ruff check and format --check, stub up to date, mypy
 
 # Every target without the python feature, then the library with it: the feature adds only
 # the bindings (env_core/src/bindings/, no tests of their own there); the tests, benches and
@@ -95,10 +95,11 @@ rust-lint: ## cargo fmt --check and clippy -D warnings, with and without the pyt
 	CARGO_TARGET_DIR=target/lint cargo clippy --workspace --all-targets -- -D warnings
 	CARGO_TARGET_DIR=target/lint cargo clippy --workspace --lib --features python -- -D warnings
 
-python-lint: $(VENV)/.extra-dev build ## the stub up to date with the core, ruff check and format --check
+python-lint: $(VENV)/.extra-dev build ## the stub up to date with the core, ruff check and format --check, mypy on the package
 	$(PY) scripts/generate_stub.py --check
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/ruff format --check .
+	$(VENV)/bin/mypy
 
 format: $(VENV)/.extra-dev ## apply cargo fmt and ruff (format and fixes)
 	cargo fmt --all

@@ -286,6 +286,14 @@ def reset_or_refused(env: Any, seed: int) -> tuple | None:
     return reset
 
 
+def random_actions(space: Any, rng: np.random.Generator, batch: tuple[int, ...] = ()) -> Any:
+    """Actions for ``space`` (one env's): probe indices in the probe mode, else wrist commands
+    drawn past the Box's bounds (the env clips them)."""
+    if isinstance(space, gym.spaces.MultiDiscrete):
+        return rng.integers(0, space.nvec, (*batch, len(space.nvec)))
+    return rng.uniform(-1.5, 1.5, (*batch, *space.shape)).astype(np.float32)
+
+
 def check_rollout(env: Any, seed: int, steps: int, rng: np.random.Generator) -> None:
     """A reset and ``steps`` random steps of a single env: everything finite and in its
     space (a reset refused for the layout is a documented error)."""
@@ -298,8 +306,9 @@ def check_rollout(env: Any, seed: int, steps: int, rng: np.random.Generator) -> 
     for key, value in info.items():
         assert_finite(key, value)
     for _ in range(steps):
-        action = rng.uniform(-1.5, 1.5, 3).astype(np.float32)
-        observation, reward, terminated, truncated, info = env.step(action)
+        observation, reward, terminated, truncated, info = env.step(
+            random_actions(env.action_space, rng)
+        )
         assert space.contains(observation), observation
         assert math.isfinite(reward)
         assert isinstance(terminated, bool) and isinstance(truncated, bool)
@@ -316,7 +325,7 @@ def check_vector_rollout(env: Any, seed: int, steps: int, rng: np.random.Generat
     observation, info = reset
     assert env.observation_space.contains(observation)
     for _ in range(steps):
-        actions = rng.uniform(-1.5, 1.5, (env.num_envs, 3))
+        actions = random_actions(env.single_action_space, rng, (env.num_envs,))
         (observation, rewards, terminated, truncated, info), error = call(env.step, actions)
         if error is not None:  # an autoreset whose layout the settings do not allow
             assert isinstance(error, ValueError)

@@ -81,8 +81,9 @@ def as_count(name: str, value: Any, *, minimum: int = 1) -> int:
     the project (the agents' thread counts, checkpoint intervals, encoder widths...)."""
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
         raise TypeError(f"{name} must be an integer, got {type(value).__name__}: {value!r}")
-    if value < minimum:
+    count = int(value)
+    if count < minimum:
         raise ValueError(f"{name} must be at least {minimum}, got {value}")
-    if value > MAX_COUNT:
+    if count > MAX_COUNT:
         raise ValueError(f"{name} must fit in 64 bits (at most 2**64 - 1), got {value}")
-    return int(value)
+    return count

@@ -60,7 +60,7 @@ class Gpis:
         shape: tuple[int, int],
         psi: float | None = None,
         prior_mean: float = DEFAULTS["prior_mean"],
-        max_rows: int = DEFAULTS["max_rows"],
+        max_rows: int = int(DEFAULTS["max_rows"]),
     ) -> None:
         # The core checks every argument (TypeError / ValueError naming it).
         self._core = _core.GpisCore(bounds, shape, psi, prior_mean, max_rows)
@@ -247,7 +247,8 @@ class Gpis:
     @property
     def shape(self) -> tuple[int, int]:
         """``(H, W)`` of the grid."""
-        return tuple(self._core.shape)
+        height, width = self._core.shape
+        return (height, width)
 
     @property
     def memory_bytes(self) -> int:

@@ -206,7 +206,7 @@ def save_gif(
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     images = [Image.fromarray(frame) for frame in frames]
-    extra = {} if comment is None else {"comment": comment.encode()}
+    extra: dict[str, Any] = {} if comment is None else {"comment": comment.encode()}
     images[0].save(
         path, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0, **extra
     )

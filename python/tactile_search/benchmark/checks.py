@@ -50,7 +50,7 @@ ENTRIES = {"wrist": ("dx", "dy", "dyaw", "claim"), "probe": ("lane", "depth", "s
 
 def _entries(space: spaces.Space) -> str:
     """The names of the entries of an action of ``space``: ``dx, dy, dyaw`` and so on."""
-    return ", ".join(ENTRIES[action_mode(space)][: int(np.prod(space.shape))])
+    return ", ".join(ENTRIES[action_mode(space)][: int(np.prod(space.shape or ()))])
 
 
 def _describe(space: spaces.Space) -> str:
@@ -70,11 +70,16 @@ class ActionCheck:
     def __init__(self, space: spaces.Space) -> None:
         self.space = space
         self.mode = action_mode(space)
-        self.shape = tuple(space.shape)
+        self.shape = tuple(space.shape or ())
         # Bounds as Python numbers: comparing 3 of them in Python is cheaper than numpy calls.
+        self._bounds: list[tuple[float, float]]
         if isinstance(space, spaces.MultiDiscrete):
             self._nvec = np.asarray(space.nvec)
             self._bounds = [(0, int(n) - 1) for n in space.nvec]
+        elif not isinstance(space, spaces.Box):
+            raise TypeError(
+                f"an action space must be a MultiDiscrete or a Box, got {type(space).__name__}"
+            )
         else:
             self._bounds = [
                 (float(lo), float(hi)) for lo, hi in zip(space.low, space.high, strict=True)

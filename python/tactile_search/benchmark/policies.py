@@ -231,7 +231,7 @@ class Sb3Policy(Sb3ModelPolicy):
                 "pip install 'tactile_search[agents]'",
                 name=error.name,
             ) from error
-        custom_objects = None if self.run is None else self._recipe_objects(path)
+        custom_objects = None if self.run is None else self._recipe_objects(self.run, path)
         try:
             model = getattr(module, class_name).load(
                 path, device="cpu", custom_objects=custom_objects
@@ -249,14 +249,15 @@ class Sb3Policy(Sb3ModelPolicy):
         super().__init__(model, self.run.deterministic if self.run is not None else True)
         self.name = f"{algo} ({path})"
 
-    def _recipe_objects(self, path: Path) -> dict[str, Any]:
+    @staticmethod
+    def _recipe_objects(run: RunConfig, path: Path) -> dict[str, Any]:
         """SB3's ``custom_objects``: the classes of the run's recipe, imported from the
         installed package, in place of those the model pickled (which may name the
         repository's ``agents`` package, or a module that has moved)."""
         from tactile_search.networks.recipe_classes import load_objects
 
         try:
-            return load_objects(self.run.recipe)
+            return load_objects(run.recipe)
         except ValueError as error:
             raise ValueError(f"{path.parent / RUN_CONFIG_FILE}: {error}") from None
 

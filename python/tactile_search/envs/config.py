@@ -15,7 +15,7 @@ import dataclasses
 import inspect
 import operator
 from collections.abc import Callable, Iterable
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 from tactile_search import _core
 
@@ -53,7 +53,7 @@ def _keep(config: Any, given: dict[str, Any], core: _core.EpisodeConfig) -> None
     hashable and equal to one built from tuples and Python numbers."""
     object.__setattr__(config, "core", core)
     if not all(_plain(value) for value in given.values()):
-        resolved = core.as_dict()
+        resolved: dict[str, Any] = dict(core.as_dict())
         for key, value in given.items():
             if not _plain(value):
                 object.__setattr__(config, key, resolved[key])
@@ -75,39 +75,56 @@ def make_batch(self: Any, num_envs: int, threads: int | None = None) -> _core.Ep
     return _core.EpisodeBatch(self.core, num_envs, threads=threads)
 
 
-CupboardSearchConfig = dataclasses.make_dataclass(
-    "CupboardSearchConfig",
-    [
-        (
-            s["key"],
-            s["type"],
-            dataclasses.field(
-                default=s["default"],
-                metadata={"doc": s["doc"], "range": s["range"], "choices": s["choices"]},
+if TYPE_CHECKING:
+
+    class CupboardSearchConfig:
+        """For type checkers: the class is made at run time from the core's settings table
+        (below), so its fields are read as ``Any``."""
+
+        core: _core.EpisodeConfig
+
+        def __init__(self, **settings: Any) -> None: ...
+        def __getattr__(self, key: str) -> Any: ...
+        def settings_dict(self) -> dict[str, Any]: ...
+        def scene_dict(self) -> dict[str, Any]: ...
+        def make_batch(self, num_envs: int, threads: int | None = None) -> _core.EpisodeBatch: ...
+
+else:
+    CupboardSearchConfig = dataclasses.make_dataclass(
+        "CupboardSearchConfig",
+        [
+            (
+                s["key"],
+                s["type"],
+                dataclasses.field(
+                    default=s["default"],
+                    metadata={"doc": s["doc"], "range": s["range"], "choices": s["choices"]},
+                ),
+            )
+            for s in SETTINGS
+        ],
+        frozen=True,
+        kw_only=True,
+        namespace={
+            "__doc__": (
+                "Every setting of a cupboard-search environment (the core's settings table)."
             ),
-        )
-        for s in SETTINGS
-    ],
-    frozen=True,
-    kw_only=True,
-    namespace={
-        "__doc__": "Every setting of a cupboard-search environment (the core's settings table).",
-        "__post_init__": _check,
-        "settings_dict": settings_dict,
-        "scene_dict": scene_dict,
-        "make_batch": make_batch,
-        "__module__": __name__,
-    },
-)
+            "__post_init__": _check,
+            "settings_dict": settings_dict,
+            "scene_dict": scene_dict,
+            "make_batch": make_batch,
+            "__module__": __name__,
+        },
+    )
 
 
 def config_for(owner: str, settings: dict[str, Any]) -> Any:
     """``CupboardSearchConfig(**settings)`` for the class the user made (``owner``): the
     core's ``TypeError`` for a keyword that is no setting names ``owner`` and the closest
     settings, not the config class the user never named."""
-    core = _core.EpisodeConfig(settings, caller=owner)
+    core = _core.EpisodeConfig(cast("_core.EpisodeSettings", settings), caller=owner)
     # The dataclass's fields without its __init__ (which would check them again).
-    config = object.__new__(CupboardSearchConfig)
+    config: Any = object.__new__(CupboardSearchConfig)
     for s in SETTINGS:
         object.__setattr__(config, s["key"], settings.get(s["key"], s["default"]))
     _keep(config, settings, core)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any, ClassVar
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
@@ -171,7 +171,8 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
       step's own ``truncated``); ``spec.max_episode_steps`` is the env's ``max_steps``.
     """
 
-    metadata: ClassVar[dict[str, Any]] = {"render_modes": ["rgb_array"], "render_fps": 10}
+    # Declared as gymnasium's Env declares it.
+    metadata: dict[str, Any] = {"render_modes": ["rgb_array"], "render_fps": 10}  # noqa: RUF012
     #: The env's episode in its batch of one (``EpisodeReads``).
     _episode_index = 0
 
@@ -249,7 +250,7 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
             for action in actions:
                 self.step(action)
 
-    def render(self) -> np.ndarray | None:
+    def render(self) -> np.ndarray | None:  # type: ignore[override]  # gymnasium's TypeVar
         """The scene from above beside the map, as an RGB array, in the ``rgb_array`` mode
         (drawn with numpy alone). Without a render mode it warns and returns None
         (gymnasium's convention)."""

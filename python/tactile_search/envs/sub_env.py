@@ -25,7 +25,7 @@ class SubEnv(EpisodeReads):
         self.index = index
 
     @property
-    def _batch(self) -> Any:  # type: ignore[override]
+    def _batch(self) -> Any:
         return self._vector._batch
 
     @property

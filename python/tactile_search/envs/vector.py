@@ -31,7 +31,8 @@ from __future__ import annotations
 
 import functools
 import numbers
-from typing import Any, ClassVar
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 from gymnasium.error import ClosedEnvironmentError, ResetNeeded
@@ -111,7 +112,8 @@ class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
         **kwargs: the fields of ``CupboardSearchConfig`` (``max_steps`` is the time limit).
     """
 
-    metadata: ClassVar[dict[str, Any]] = {
+    # Declared as gymnasium's VectorEnv declares it: a class default an instance replaces.
+    metadata: dict[str, Any] = {  # noqa: RUF012
         "autoreset_mode": AutoresetMode.NEXT_STEP,
         "render_modes": CupboardSearchEnv.metadata["render_modes"],
         "render_fps": CupboardSearchEnv.metadata["render_fps"],
@@ -163,13 +165,14 @@ class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
         self._masked_info: dict[str, np.ndarray] | None = None
 
     # ---- generators ----------------------------------------------------------------------
-    @property
-    def np_random(self) -> tuple[np.random.Generator, ...]:
+    # Per sub-env, as gymnasium's SyncVectorEnv gives them (its VectorEnv types one).
+    @property  # type: ignore[misc]
+    def np_random(self) -> tuple[np.random.Generator, ...]:  # type: ignore[override]
         """Each sub-env's generator (made from OS entropy if it was never seeded)."""
         return tuple(self._generator(i) for i in range(self.num_envs))
 
     @property
-    def np_random_seed(self) -> tuple[int, ...]:
+    def np_random_seed(self) -> tuple[int, ...]:  # type: ignore[override]
         """Each sub-env's generator seed (-1 until ``reset`` made its generator)."""
         return tuple(-1 if seed is None else seed for seed in self._generator_seeds)
 
@@ -199,7 +202,10 @@ class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
 
     # ---- reset ---------------------------------------------------------------------------
     def reset(
-        self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
+        self,
+        *,
+        seed: int | Sequence[int | None] | None = None,
+        options: dict[str, Any] | None = None,
     ) -> tuple[dict, dict]:
         self._check_open()
         seeds = self._reset_seeds(seed)
@@ -360,7 +366,7 @@ class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
         return dict(arrays)
 
     # ---- render, scripted actions, pickling ----------------------------------------------
-    def render(self) -> tuple[np.ndarray, ...] | None:
+    def render(self) -> tuple[np.ndarray, ...] | None:  # type: ignore[override]  # as above
         """Each sub-env's frame (the scene from above beside its map) in the ``rgb_array``
         mode; None without a render mode."""
         if self.render_mode is None:

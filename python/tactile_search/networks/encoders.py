@@ -126,7 +126,8 @@ class MapExtractor(BaseFeaturesExtractor):
                     f"observation space {map_key!r} must be a Box of shape (C, H, W), "
                     f"got {map_space!r}"
                 )
-            self.map_shape: tuple[int, int, int] = tuple(int(n) for n in map_space.shape)
+            channels, height, width = (int(n) for n in map_space.shape)
+            self.map_shape: tuple[int, int, int] = (channels, height, width)
             map_dim = self._build_map(self.map_shape)
         vector_dim = sum(get_flattened_obs_dim(observation_space[k]) for k in self.vector_keys)
         if proprio_features and vector_dim:
@@ -152,7 +153,8 @@ class MapExtractor(BaseFeaturesExtractor):
         with th.no_grad():
             zeros = th.zeros((1, *self.map_shape), dtype=param.dtype, device=param.device)
             out = self.map_net(zeros)
-        return tuple(int(n) for n in out.shape[1:])
+        channels, height, width = (int(n) for n in out.shape[1:])
+        return (channels, height, width)
 
     def forward(self, observations: dict[str, th.Tensor]) -> th.Tensor:
         parts = []
@@ -204,6 +206,9 @@ class SpaceToDepth(nn.Module):
     channel, the rest 0, a buffer, not trained), which copies every value exactly and keeps
     a channels-last input channels-last: on CPU that is faster than ``PixelUnshuffle`` of a
     channels-last map, and than a reshape and permute."""
+
+    #: The fixed convolution's weight (a buffer).
+    weight: th.Tensor
 
     def __init__(self, channels: int, factor: int) -> None:
         super().__init__()
@@ -295,6 +300,10 @@ class SpatialSoftmax(nn.Module):
     ``(x, y)`` under it, in [-1, 1] (left/top = -1): ``(B, C, H, W) -> (B, 2 C)`` as
     ``[x_0, y_0, x_1, y_1, ...]``. The temperature is learned (from 1) if ``learn_temperature``.
     """
+
+    #: Each cell's (x, y) and, when learned, the temperature's log (buffers or parameters).
+    coords: th.Tensor
+    log_temperature: th.Tensor
 
     def __init__(self, height: int, width: int, learn_temperature: bool = True) -> None:
         super().__init__()

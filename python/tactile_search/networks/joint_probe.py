@@ -13,9 +13,10 @@ Everything else (encoder, value head, PPO's losses) is SB3's own.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, cast
 
 import torch
+from gymnasium import spaces
 from stable_baselines3.common.distributions import MultiCategoricalDistribution
 from stable_baselines3.common.policies import MultiInputActorCriticPolicy
 from torch import nn
@@ -65,17 +66,23 @@ class JointCategoricalDistribution(MultiCategoricalDistribution):
             dim=1,
         )
 
+    @property
+    def joint(self) -> Categorical:
+        """The one categorical over every joint index (held in SB3's ``distribution``, which
+        its multi-categorical base types as a list of categoricals)."""
+        return cast(Categorical, self.distribution)
+
     def log_prob(self, actions: torch.Tensor) -> torch.Tensor:
-        return self.distribution.log_prob(self.joint_index(actions))
+        return self.joint.log_prob(self.joint_index(actions))
 
     def entropy(self) -> torch.Tensor:
-        return self.distribution.entropy()
+        return self.joint.entropy()
 
     def sample(self) -> torch.Tensor:
-        return self.actions_of(self.distribution.sample())
+        return self.actions_of(self.joint.sample())
 
     def mode(self) -> torch.Tensor:
-        return self.actions_of(torch.argmax(self.distribution.probs, dim=1))
+        return self.actions_of(torch.argmax(self.joint.probs, dim=1))
 
 
 class JointProbePolicy(MultiInputActorCriticPolicy):
@@ -93,5 +100,7 @@ class JointProbePolicy(MultiInputActorCriticPolicy):
         super().__init__(observation_space, action_space, *args, **kwargs)
 
     def _build(self, lr_schedule: Any) -> None:
-        self.action_dist = JointCategoricalDistribution(list(self.action_space.nvec))
+        # A MultiDiscrete action space (checked in __init__).
+        nvec = cast(spaces.MultiDiscrete, self.action_space).nvec
+        self.action_dist = JointCategoricalDistribution([int(n) for n in nvec])
         super()._build(lr_schedule)

@@ -20,7 +20,7 @@ keeps the grid it was trained on.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, cast
 
 import gymnasium as gym
 import numpy as np
@@ -63,6 +63,12 @@ class SpatialProbeExtractor(MapExtractor):
     probes x 2 x ``channels[-1]``: the global part first, then each probe's two points'
     features.
     """
+
+    #: The probes' map points (a buffer, ``grid_sample``'s layout).
+    points: th.Tensor
+    #: The trunk and the summary's head: always built (the extractor needs the map).
+    map_net: nn.Module
+    map_head: nn.Module
 
     def __init__(
         self,
@@ -151,7 +157,7 @@ class SpatialProbeHead(nn.Module):
         # The first layer reads [probe's features, context]; the context's half is the same
         # for every probe, so it is applied once per sample, not once per probe (the same
         # function as the layer on the concatenation, at half its cost; same parameters).
-        first, _, last = self.mlp
+        first, last = cast(nn.Linear, self.mlp[0]), self.mlp[2]
         weight = first.weight
         probe_part = nn.functional.linear(per_probe, weight[:, : self.point_features])
         context_part = nn.functional.linear(context, weight[:, self.point_features :], first.bias)
@@ -180,7 +186,8 @@ class SpatialProbePolicy(JointProbePolicy):
             raise ValueError(
                 f"SpatialProbePolicy needs SpatialProbeExtractor, got {type(extractor).__name__}"
             )
-        lanes, depths, sweeps = (int(n) for n in self.action_space.nvec)
+        nvec = cast(gym.spaces.MultiDiscrete, self.action_space).nvec  # checked by the base
+        lanes, depths, sweeps = (int(n) for n in nvec)
         if extractor.probes != lanes * depths:
             raise ValueError(
                 f"the extractor's probe_points hold {extractor.probes} probes, the action "
@@ -198,7 +205,7 @@ class SpatialProbePolicy(JointProbePolicy):
             nn.Linear(64, 64),
             nn.ReLU(),
         )
-        self.optimizer = self.optimizer_class(
+        self.optimizer = self.optimizer_class(  # type: ignore[call-arg]  # SB3's own call
             self.parameters(), lr=lr_schedule(1), **self.optimizer_kwargs
         )
 
