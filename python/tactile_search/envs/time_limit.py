@@ -5,8 +5,11 @@ The episode truncates itself at ``max_steps`` (the core reports it as the step's
 would make ``gymnasium.make`` add a ``TimeLimit`` wrapper, a second limit that could not
 follow ``make(..., max_steps=N)``. Instead every env declares its own limit where Gymnasium's
 clients read it: when ``make`` or ``make_vec`` gives the env its spec, the spec's
-``max_episode_steps`` becomes the env's ``max_steps`` (``TimeAwareObservation`` and RL
-libraries read ``env.spec.max_episode_steps``).
+``max_episode_steps`` is set to the env's ``max_steps`` (``TimeAwareObservation`` and RL
+libraries read ``env.spec.max_episode_steps``). So a made env's spec re-makes it:
+``gymnasium.make(env.spec)`` wraps ``TimeLimit`` at the env's own ``max_steps`` (one limit),
+and ``gymnasium.make_vec(vector.spec)`` hands the vector env that limit as
+``max_episode_steps``, which it takes as ``max_steps`` (``max_steps_of``).
 """
 
 from __future__ import annotations
@@ -33,3 +36,17 @@ class DeclaredTimeLimit:
         if spec is not None:
             spec = dataclasses.replace(spec, max_episode_steps=self.config.max_steps)
         self._declared_spec = spec
+
+
+def max_steps_of(max_episode_steps: Any, max_steps: Any = None) -> int:
+    """The ``max_steps`` that gymnasium's ``max_episode_steps`` names (an int >= 1), checked
+    against a ``max_steps`` given beside it: ``ValueError`` if they differ."""
+    from tactile_search._validation import as_count
+
+    limit = as_count("max_episode_steps", max_episode_steps, minimum=1)
+    if max_steps is not None and max_steps != limit:
+        raise ValueError(
+            f"max_episode_steps ({limit}) and max_steps ({max_steps!r}) name the same time "
+            "limit and must agree; give one of them"
+        )
+    return limit

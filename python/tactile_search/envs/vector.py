@@ -49,7 +49,7 @@ from tactile_search.envs.config import (
 from tactile_search.envs.cupboard_search import CupboardSearchEnv, action_space, observation_space
 from tactile_search.envs.episode_log import EpisodeLog
 from tactile_search.envs.sub_env import SubEnv
-from tactile_search.envs.time_limit import DeclaredTimeLimit
+from tactile_search.envs.time_limit import DeclaredTimeLimit, max_steps_of
 from tactile_search.render import episode_frame
 
 #: The layout-seed range of ``gymnasium.make``'s env: its ``reset()`` draws from it.
@@ -109,6 +109,9 @@ class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
         render_mode: ``None`` or ``"rgb_array"`` (``render()`` returns each sub-env's frame).
         autoreset_mode: ``"next_step"`` (default), ``"same_step"`` or ``"disabled"`` (or
             the ``gymnasium.vector.AutoresetMode`` member or value).
+        max_episode_steps: gymnasium's name of the time limit, ``max_steps``:
+            ``gymnasium.make_vec`` passes a spec's declared limit under it (so
+            ``make_vec(vector.spec)`` re-makes this env). Beside ``max_steps`` it must agree.
         **kwargs: the fields of ``CupboardSearchConfig`` (``max_steps`` is the time limit).
     """
 
@@ -127,8 +130,11 @@ class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
         layout_seeds: tuple[int, int] = SINGLE_ENV_LAYOUT_SEEDS,
         render_mode: str | None = None,
         autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
+        max_episode_steps: int | None = None,
         **kwargs: Any,
     ) -> None:
+        if max_episode_steps is not None:
+            kwargs["max_steps"] = max_steps_of(max_episode_steps, kwargs.get("max_steps"))
         if isinstance(num_envs, bool) or not isinstance(num_envs, int):
             raise TypeError(f"num_envs must be an int, got {type(num_envs).__name__}")
         if num_envs < 1:
