@@ -128,7 +128,7 @@ def instrument(clock: StageClock, algorithm: type) -> contextlib.ExitStack:
         return make
 
     original_student = training._sampling_student
-    original_planner = batched.ProbePlanner
+    original_planner = batched.core_planner
     patch(training, "record", recording(training.record))
     patch(training, "record_batched", recording(training.record_batched))
     patch(training, "clone", clock.timed(cloning_stage, training.clone))
@@ -136,7 +136,7 @@ def instrument(clock: StageClock, algorithm: type) -> contextlib.ExitStack:
     patch(training, "_sampling_batch_student", timed_student(training._sampling_batch_student))
     patch(
         batched,
-        "ProbePlanner",
+        "core_planner",
         lambda *args: _TimedPlanner(clock, row(TEACHER), original_planner(*args)),
     )
     # PPO's fine-tuning split into its rollouts (the env and the policy's sampling) and its

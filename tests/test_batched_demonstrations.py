@@ -102,3 +102,38 @@ def test_the_clone_stage_is_bit_identical_for_a_seed_on_one_thread(tmp_path: Pat
     assert weights[0].keys() == weights[1].keys()
     for key in weights[0]:
         assert torch.equal(weights[0][key], weights[1][key]), key
+
+
+def test_the_identify_planner_labels_a_batch_with_its_claims_as_it_acts_alone() -> None:
+    """The identify task's teacher over a batch: its actions (probe and claim) are those it
+    takes playing each layout alone."""
+    import gymnasium as gym
+
+    from agents.scripted import IdentifyPlanner
+    from tactile_search import CupboardSearchEnv
+
+    settings = {**gym.spec("tactile_search/IdentifyByTouch-v0").kwargs, **PROBE_GPIS}
+    layouts = _training_layouts(4, 5)
+    batched = record_batched(
+        layouts, settings, GAMMA, num_envs=2, threads=1, teacher="identify_planner"
+    )
+    assert batched.actions.shape[1] == 4
+    alone = []
+    env = CupboardSearchEnv(threads=1, **settings)
+    face = IdentifyPlanner()
+    for layout in layouts:
+        observation, info = env.reset(seed=layout)
+        face.reset(env, observation, info)
+        ended = False
+        while not ended:
+            action = face.act(observation)
+            alone.append(action)
+            observation, _, terminated, truncated, info = env.step(action)
+            ended = terminated or truncated
+    env.close()
+    np.testing.assert_array_equal(batched.actions, np.array(alone))
+
+
+def test_a_batch_teacher_is_one_of_the_cores_planners() -> None:
+    with pytest.raises(ValueError, match="one of the core's planners"):
+        record_batched([1], PROBE_GPIS, GAMMA, teacher="oracle")

@@ -1,7 +1,8 @@
 """Demonstrations recorded over a batch of episodes on every core: the vector env steps
-``num_envs`` episodes at once in Rust, the core's GPIS probe planner labels all of them in
-one parallel call (``tactile_search._core.ProbePlanner``), and a student (DAgger) chooses
-all of their probes in one forward pass.
+``num_envs`` episodes at once in Rust, one of the core's planners labels all of them in one
+parallel call (the GPIS probe planner, ``tactile_search._core.ProbePlanner``, by default;
+any of ``agents.scripted.CORE_PLANNERS``: the identify planner labels with its claim entry),
+and a student (DAgger) chooses all of their actions in one forward pass.
 
 The layouts run in order, each sub-env taking the next layout as its episode ends; the
 episodes are returned in the order of the layouts given, so the teacher's demonstrations
@@ -25,15 +26,34 @@ from typing import Any
 import numpy as np
 
 from agents.imitation.demonstrations import Demonstrations, episode_rows
+from agents.scripted import CORE_PLANNERS
 from agents.scripted.gpis_probe_planner import GpisProbePlanner
-from tactile_search import CupboardSearchVectorEnv, _core
+from tactile_search import CupboardSearchVectorEnv
 
-#: The core's planner (a name of this module's, so a profiler can wrap it).
-ProbePlanner = _core.ProbePlanner
+#: The teacher by default: the GPIS probe planner.
+DEFAULT_TEACHER = GpisProbePlanner.name
 
 #: A batch student: (observations of every sub-env, which of them start an episode) ->
-#: one probe per sub-env, ``(num_envs, 3)``.
+#: one action per sub-env, ``(num_envs, entries)`` (the probe, and the claim where the task
+#: claims).
 BatchStudent = Callable[[dict[str, np.ndarray], np.ndarray], np.ndarray]
+
+
+def teacher_face(teacher: str) -> Any:
+    """The scripted face of the core planner named ``teacher`` (``CORE_PLANNERS``);
+    ``ValueError`` naming the planners otherwise."""
+    if teacher not in CORE_PLANNERS:
+        raise ValueError(
+            f"a batched teacher must be one of the core's planners {sorted(CORE_PLANNERS)}, "
+            f"got {teacher!r}"
+        )
+    return CORE_PLANNERS[teacher][0]
+
+
+def core_planner(face: Any, config: Any, num_envs: int) -> Any:
+    """The core's planner of ``face`` for ``num_envs`` episodes of ``config`` (a function of
+    this module's, so a profiler can wrap it)."""
+    return face.core_class(config, num_envs)
 
 
 @dataclasses.dataclass
@@ -68,11 +88,13 @@ def record_batched(
     num_envs: int = 16,
     threads: int | None = None,
     progress: Callable[[int], Any] | None = None,
+    teacher: str = DEFAULT_TEACHER,
 ) -> Demonstrations:
-    """The GPIS probe planner's labels over one episode per layout seed in the env of
-    ``env_kwargs`` (the student's settings, the probe action mode), ``num_envs`` episodes
-    at a time on ``threads`` cores (default every core). Without ``student`` the planner
-    acts; with one, the student's probes are carried out while the planner labels.
+    """The labels of the core planner ``teacher`` (``CORE_PLANNERS``, default the GPIS probe
+    planner) over one episode per layout seed in the env of ``env_kwargs`` (the student's
+    settings, the probe action mode), ``num_envs`` episodes at a time on ``threads`` cores
+    (default every core). Without ``student`` the planner acts; with one, the student's
+    actions are carried out while the planner labels (and follows their probes).
     ``returns`` are discounted by ``gamma`` within the episode. ``progress(k)`` is called as
     ``k`` more episodes finish (a progress bar's ``update``)."""
     if env_kwargs.get("action_mode") != "probe":
@@ -80,9 +102,10 @@ def record_batched(
             f"demonstrations need action_mode='probe' (the teacher's probes), got "
             f"{env_kwargs.get('action_mode')!r}"
         )
+    face = teacher_face(teacher)
     layouts = [int(seed) for seed in layout_seeds]
     n = max(1, min(num_envs, len(layouts)))
-    teacher_kwargs = {**env_kwargs, **GpisProbePlanner.env_kwargs}
+    teacher_kwargs = {**env_kwargs, **face.env_kwargs}
     twin = teacher_kwargs != env_kwargs
     student_env = CupboardSearchVectorEnv(
         num_envs=n, threads=threads, autoreset_mode="disabled", **env_kwargs
@@ -94,7 +117,7 @@ def record_batched(
         if twin
         else student_env
     )
-    planner = ProbePlanner(teacher_env.config.core, n)
+    planner = core_planner(face, teacher_env.config.core, n)
     finished: list[Demonstrations | None] = [None] * len(layouts)
     try:
         _run(layouts, student_env, teacher_env, planner, gamma, student, finished, progress)
@@ -116,6 +139,7 @@ def _run(
     progress: Callable[[int], Any] | None,
 ) -> None:
     n = student_env.num_envs
+    entries = len(student_env.single_action_space.nvec)
     twin = teacher_env is not student_env
     # Sub-envs past the last layout replay one (their rows are dropped) until all finish.
     running: list[_Episode | None] = [None] * n
@@ -142,9 +166,9 @@ def _run(
         labels = planner.act(teacher_observation["map"], teacher_observation["proprio"])
         actions = labels
         if student is not None:
-            actions = np.asarray(student(observation, starts), dtype=np.int64).reshape(n, 3)
+            actions = np.asarray(student(observation, starts), dtype=np.int64).reshape(n, entries)
             for i in range(n):
-                planner.follow(i, actions[i].tolist())
+                planner.follow(i, actions[i, :3].tolist())  # the probe, not the claim
         for i, episode in enumerate(running):
             if episode is not None:
                 episode.observations.append({key: value[i] for key, value in observation.items()})

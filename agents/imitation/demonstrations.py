@@ -41,7 +41,8 @@ Student = Callable[[dict], np.ndarray]
 @dataclasses.dataclass
 class Demonstrations:
     """Labelled states, one row per probe: ``observations`` (key -> ``(n, ...)`` array, as the
-    student's env returns them), ``actions`` (``(n, 3)`` int64, the teacher's probe),
+    student's env returns them), ``actions`` (``(n, entries)`` int64, the teacher's probe,
+    and its claim where the task claims),
     ``returns`` (``(n,)`` float32, the discounted return from the state on, under whoever
     acted), ``layout_seeds`` (``(n,)``, the episode's layout), the episode's outcome,
     ``episode_success`` and ``episode_tips`` (``(n,)``, the same on each of its rows), and
