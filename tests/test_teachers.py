@@ -23,12 +23,20 @@ def test_a_teacher_is_the_planner_or_an_ensemble_of_runs():
     assert ImitationSettings().teacher == PLANNER
     assert isinstance(make_teacher(PLANNER), GpisProbePlanner)
     assert check_teacher("ensemble:a,b") == "ensemble:a,b"
-    with pytest.raises(ValueError, match="teacher must be 'gpis_probe_planner' or 'ensemble:"):
+    with pytest.raises(ValueError, match=r"teacher must be one of the core's planners \["):
         ImitationSettings(teacher="oracle")
     with pytest.raises(ValueError, match="two runs or more"):
         ImitationSettings(teacher="ensemble:runs/one")
     with pytest.raises(TypeError, match="teacher must be a string"):
         ImitationSettings(teacher=3)  # type: ignore[arg-type]
+
+
+def test_every_core_planner_is_a_teacher() -> None:
+    from agents.scripted import CORE_PLANNERS
+
+    for name, (face, _reference) in CORE_PLANNERS.items():
+        assert ImitationSettings(teacher=name).teacher == name
+        assert type(make_teacher(name)) is face
 
 
 def test_each_teacher_keeps_its_demonstrations_in_a_file_of_its_own():

@@ -1,10 +1,12 @@
-"""Who labels the states a student clones: the GPIS probe planner, or an ensemble of trained
-probe-mode runs (distillation).
+"""Who labels the states a student clones: one of the core's scripted planners, or an
+ensemble of trained probe-mode runs (distillation).
 
 A teacher is named by a spec, the ``teacher`` key of a recipe's ``imitation`` section:
 
 - ``gpis_probe_planner`` (the default): the scripted planner
-  (``agents.scripted.gpis_probe_planner``), which keeps a belief of the probes made;
+  (``agents.scripted.gpis_probe_planner``), which keeps a belief of the probes made; or
+  another of the core's planners (``agents.scripted.CORE_PLANNERS``: the identify task's
+  ``identify_planner``, whose labels carry its claim, the map task's mappers);
 - ``ensemble:RUN,RUN,...``: training seeds of one learned agent acting as one
   (``agents.evaluation.ensemble``), the mode of their averaged probe probabilities. They
   read only the observation, so they label any state a student visits; distilling them into
@@ -23,19 +25,23 @@ from typing import Any
 import numpy as np
 
 from agents.evaluation.ensemble import EnsembleAgent, ensemble_members
+from agents.scripted import CORE_PLANNERS
 from agents.scripted.gpis_probe_planner import GpisProbePlanner
 
 PLANNER = GpisProbePlanner.name
 
 
 def check_teacher(spec: Any) -> str:
-    """``spec`` if it names a teacher (the planner or an ``ensemble:`` of two runs or more);
-    ``TypeError`` / ``ValueError`` naming what was expected otherwise. The ensemble's runs are
-    read when the teacher is made (``make_teacher``)."""
+    """``spec`` if it names a teacher (one of the core's planners or an ``ensemble:`` of two
+    runs or more); ``TypeError`` / ``ValueError`` naming what was expected otherwise. The
+    ensemble's runs are read when the teacher is made (``make_teacher``)."""
     if not isinstance(spec, str):
         raise TypeError(f"teacher must be a string, got {type(spec).__name__}")
-    if spec != PLANNER and ensemble_members(spec) is None:
-        raise ValueError(f"teacher must be {PLANNER!r} or 'ensemble:RUN,RUN,...', got {spec!r}")
+    if spec not in CORE_PLANNERS and ensemble_members(spec) is None:
+        raise ValueError(
+            f"teacher must be one of the core's planners {sorted(CORE_PLANNERS)} or "
+            f"'ensemble:RUN,RUN,...', got {spec!r}"
+        )
     return spec
 
 
@@ -52,6 +58,6 @@ class EnsembleTeacher(EnsembleAgent):
 
 def make_teacher(spec: str) -> Any:
     """The teacher ``spec`` names (``check_teacher``)."""
-    if check_teacher(spec) == PLANNER:
-        return GpisProbePlanner()
+    if check_teacher(spec) in CORE_PLANNERS:
+        return CORE_PLANNERS[spec][0]()
     return EnsembleTeacher.from_spec(spec)

@@ -46,6 +46,7 @@ from agents.run_dir import (
 from agents.sb3.bfloat16 import learner_precision
 from agents.sb3.recipes import algorithm_class, load_hyperparams, new_model
 from agents.sb3.training_env import TRAIN_LAYOUT_SEEDS, make_training_env
+from agents.scripted import CORE_PLANNERS
 from agents.scripted.geometry import Geometry
 from tactile_search import ENV_ID, CupboardSearchEnv
 from tactile_search._validation import as_bool, as_count
@@ -196,7 +197,7 @@ def imitate_into(
     def recording(round_layouts: list[int], student: Any, stage: str) -> Demonstrations:
         """The teacher's labels on ``round_layouts``, the teacher or ``model`` acting."""
         with stage_bar(stage, len(round_layouts), "episode", progress) as update:
-            if settings.teacher == PLANNER:
+            if settings.teacher in CORE_PLANNERS:
                 return record_batched(
                     round_layouts,
                     env_kwargs,
@@ -205,6 +206,7 @@ def imitate_into(
                     num_envs=recipe["n_envs"],
                     threads=env_threads,
                     progress=update,
+                    teacher=settings.teacher,
                 )
             acting = None if student is None else _sampling_student(student)
             return record(
