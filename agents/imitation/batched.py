@@ -26,12 +26,9 @@ from typing import Any
 import numpy as np
 
 from agents.imitation.demonstrations import Demonstrations, episode_rows
+from agents.imitation.teachers import PLANNER
 from agents.scripted import CORE_PLANNERS
-from agents.scripted.gpis_probe_planner import GpisProbePlanner
 from tactile_search import CupboardSearchVectorEnv
-
-#: The teacher by default: the GPIS probe planner.
-DEFAULT_TEACHER = GpisProbePlanner.name
 
 #: A batch student: (observations of every sub-env, which of them start an episode) ->
 #: one action per sub-env, ``(num_envs, entries)`` (the probe, and the claim where the task
@@ -88,7 +85,7 @@ def record_batched(
     num_envs: int = 16,
     threads: int | None = None,
     progress: Callable[[int], Any] | None = None,
-    teacher: str = DEFAULT_TEACHER,
+    teacher: str = PLANNER,
 ) -> Demonstrations:
     """The labels of the core planner ``teacher`` (``CORE_PLANNERS``, default the GPIS probe
     planner) over one episode per layout seed in the env of ``env_kwargs`` (the student's

@@ -28,6 +28,8 @@ import functools
 from pathlib import Path
 from typing import Any
 
+from tactile_search._validation import as_bool
+
 #: The flags of ``/proc/cpuinfo`` that say the CPU computes bfloat16 natively: AMX tiles,
 #: or AVX-512's bfloat16 dot products.
 NATIVE_BF16_FLAGS = ("amx_bf16", "avx512_bf16")
@@ -53,8 +55,6 @@ def learner_precision(recipe: dict[str, Any], native: bool | None = None) -> str
     """The precision ``recipe``'s updates run in: ``bfloat16`` if it sets
     ``bfloat16_updates`` and the CPU computes bfloat16 natively (``native``, default
     ``cpu_has_native_bf16()``), else ``float32``."""
-    from tactile_search._validation import as_bool
-
     if not as_bool("bfloat16_updates", recipe.get("bfloat16_updates", False)):
         return "float32"
     native = cpu_has_native_bf16() if native is None else native

@@ -17,6 +17,8 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
+from tactile_search._validation import as_count
+
 
 class DeclaredTimeLimit:
     """Mixin of the cupboard-search envs: ``spec.max_episode_steps`` is ``config.max_steps``
@@ -41,8 +43,6 @@ class DeclaredTimeLimit:
 def max_steps_of(max_episode_steps: Any, max_steps: Any = None) -> int:
     """The ``max_steps`` that gymnasium's ``max_episode_steps`` names (an int >= 1), checked
     against a ``max_steps`` given beside it: ``ValueError`` if they differ."""
-    from tactile_search._validation import as_count
-
     limit = as_count("max_episode_steps", max_episode_steps, minimum=1)
     if max_steps is not None and max_steps != limit:
         raise ValueError(
