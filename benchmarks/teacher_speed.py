@@ -7,7 +7,8 @@ Rows, each over whole episodes (resets included):
 
 - ``random probes``: one env, one thread, random probes (the environment's own rate; on an
   identify id, random probes that never claim);
-- ``core planner``: the same env with the core's planner choosing every probe;
+- ``core planner``: the same env with the core's planner choosing every probe (its static
+  tables, made once per settings, made before the clock as the env's are);
 - ``its probes replayed``: the same env stepping the planner's probes again without it (the
   environment's own rate on the planner's episodes, which are shorter than random ones, so
   a reset weighs more per probe);
@@ -63,8 +64,14 @@ def single_env(
     env = CupboardSearchEnv(threads=1, **settings)
     rng = np.random.default_rng(0)
     probes, made = 0, []
-    started = time.perf_counter()
     planner = choose() if choose is not None else None
+    if planner is not None:
+        # A planner makes its static tables (the settings' probe paths and turns) on its
+        # first reset, as the env makes its own when it is made: both before the clock, on
+        # a layout before the timed ones.
+        observation, info = env.reset(seed=FIRST_LAYOUT - 1)
+        planner.reset(env, observation, info)
+    started = time.perf_counter()
     for k in range(episodes):
         observation, info = env.reset(seed=FIRST_LAYOUT + k)
         if planner is not None:

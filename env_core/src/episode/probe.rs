@@ -251,6 +251,63 @@ impl ProbeController {
         })
     }
 
+    /// [`ProbeController::approach`] from `pose` to every lane and depth of the grid, in
+    /// row-major order (lane, then depth), at the cost of a few probes rather than one per
+    /// lane and depth. The controller's phases run one after another, each moving one
+    /// coordinate: the unturn (the yaw) and the retreat (y) do not depend on the lane, the
+    /// shift (x) only on the lane, the entry (y) only on where it starts and the depth. So
+    /// each phase is stepped once per lane or depth, by [`ProbeController::next_motion`]
+    /// itself, and the counts added: the same counts and end poses, bit for bit (tested).
+    pub fn approaches(&self, pose: HandPose) -> Vec<(usize, HandPose)> {
+        let c = &self.config;
+        let lanes: Vec<f64> = (0..c.lanes).map(|i| self.lane(i)).collect();
+        let depths: Vec<f64> = (0..c.depths).map(|i| self.depth(i)).collect();
+        let near = |a: f64, b: f64| (a - b).abs() <= POSITION_TOLERANCE;
+        // Runs the motions of `phase` only, towards (x, y).
+        let run = |from: HandPose, x: f64, y: f64, phase: Phase| {
+            self.motions_until(from, &Probe { x, y, yaw: 0.0 }, |p| p != phase)
+        };
+        // The entry from `from` (at its lane) to every depth.
+        let enter_all = |from: HandPose| -> Vec<(usize, HandPose)> {
+            depths
+                .iter()
+                .map(|&y| run(from, from.x, y, Phase::Enter))
+                .collect()
+        };
+        // The unturn, for every target but the pose's own lane and depth (where nothing
+        // moves); x and y stay as they are.
+        let (unturn, unturned) = run(pose, f64::NAN, f64::NAN, Phase::Unturn);
+        let mut entries_here: Option<Vec<(usize, HandPose)>> = None;
+        let mut entries_outside: Option<Vec<(usize, HandPose)>> = None;
+        let mut approaches = Vec::with_capacity(lanes.len() * depths.len());
+        for &x in &lanes {
+            if near(pose.x, x) {
+                // The pose's own lane: no retreat or shift, straight to the depth.
+                let entries = entries_here.get_or_insert_with(|| enter_all(unturned));
+                for (&y, &(enter, entered)) in depths.iter().zip(entries.iter()) {
+                    approaches.push(if near(pose.y, y) {
+                        (0, pose)
+                    } else {
+                        (unturn + enter, entered)
+                    });
+                }
+                continue;
+            }
+            let (retreat, retreated) = run(unturned, x, f64::NAN, Phase::Retreat);
+            let (shift, shifted) = run(retreated, x, f64::NAN, Phase::Shift);
+            // The entry reads y alone (x stays at the lane): the same from every lane.
+            let entries = entries_outside.get_or_insert_with(|| enter_all(shifted));
+            for &(enter, entered) in entries.iter() {
+                let end = HandPose {
+                    x: shifted.x,
+                    ..entered
+                };
+                approaches.push((unturn + retreat + shift + enter, end));
+            }
+        }
+        approaches
+    }
+
     fn motions_until(
         &self,
         mut pose: HandPose,
@@ -406,5 +463,73 @@ mod tests {
             yaw: 0.0,
         };
         assert_eq!(c.next_motion(pose, &probe).0, Phase::Enter);
+    }
+
+    #[test]
+    fn approaches_to_the_whole_grid_equal_each_approach_bit_for_bit() {
+        let c = controller();
+        let grid = c.grid();
+        let mut poses = vec![
+            HandPose {
+                x: 0.0,
+                y: -0.2,
+                yaw: 0.0,
+            },
+            // At a lane and a depth of the grid, turned and not.
+            HandPose {
+                x: grid.lanes[3],
+                y: grid.depths[4],
+                yaw: 0.0,
+            },
+            HandPose {
+                x: grid.lanes[3],
+                y: grid.depths[4],
+                yaw: grid.yaws[1],
+            },
+            HandPose {
+                x: grid.lanes[28],
+                y: grid.depths[0],
+                yaw: grid.yaws[8],
+            },
+            // Near a lane, within the tolerance and beyond it.
+            HandPose {
+                x: grid.lanes[10] + 0.5e-6,
+                y: 0.1,
+                yaw: 0.3,
+            },
+            HandPose {
+                x: grid.lanes[10] + 1e-3,
+                y: 0.1,
+                yaw: -0.3,
+            },
+        ];
+        let mut state = 7u64;
+        let mut uniform = |low: f64, high: f64| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            low + (high - low) * ((state >> 11) as f64 / (1u64 << 53) as f64)
+        };
+        for _ in 0..40 {
+            poses.push(HandPose {
+                x: uniform(-0.3, 0.3),
+                y: uniform(-0.25, 0.3),
+                yaw: uniform(-1.0, 1.0),
+            });
+        }
+        for pose in poses {
+            let all = c.approaches(pose);
+            assert_eq!(all.len(), grid.lanes.len() * grid.depths.len());
+            for (lane, &x) in grid.lanes.iter().enumerate() {
+                for (depth, &y) in grid.depths.iter().enumerate() {
+                    let one = c.approach(pose, &Probe { x, y, yaw: 0.0 });
+                    assert_eq!(
+                        all[lane * grid.depths.len() + depth],
+                        one,
+                        "{pose:?} to {x}, {y}"
+                    );
+                }
+            }
+        }
     }
 }

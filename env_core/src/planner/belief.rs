@@ -13,7 +13,6 @@
 //! judged on the camera's map (`seen`): a touch pulls the mean below zero well beyond the
 //! touched jar, so touched jars are excluded by their estimated centres instead.
 
-use super::distance::distance_to;
 use super::geometry::PlannerGeometry;
 
 /// Angular resolution of the shadow sweep, rad.
@@ -53,7 +52,7 @@ impl Belief {
         let seen: Vec<bool> = solid_cells(&mean, &std, 0.0);
         let (behind, behind_wide) = depth_behind_surfaces(g, &seen);
         let (rows, cols) = g.grid_shape;
-        let from_seen = distance_to(&seen, rows, cols, g.cell, DISTANCE_CAP);
+        let from_seen = g.distance.of(&seen, rows, cols);
         let cells = mean.len();
         Self {
             mean,

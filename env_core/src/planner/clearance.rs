@@ -7,8 +7,6 @@
 //! [`safe_angle`] how far the finger can turn at a wrist position, the wrist's corners and
 //! the arm kept clear and the turn stopped where the finger would meet a seen jar.
 
-use super::belief::DISTANCE_CAP;
-use super::distance::distance_to;
 use super::geometry::PlannerGeometry;
 use super::numeric::{arange, linspace};
 
@@ -84,24 +82,10 @@ pub struct ClearanceField {
 impl ClearanceField {
     /// The field of `blocked` (the map's cells, row-major) on `layout`.
     pub fn new(g: &PlannerGeometry, layout: &FieldLayout, blocked: &[bool]) -> Self {
-        let (h, w) = g.grid_shape;
-        let FieldLayout {
-            x0, y0, rows, cols, ..
-        } = *layout;
-        let mut padded = vec![false; rows * cols];
-        for i in 0..rows {
-            let y = y0 + (i as f64 + 0.5) * g.cell;
-            for j in 0..cols {
-                let x = x0 + (j as f64 + 0.5) * g.cell;
-                let inside = i >= PAD_CELLS && (PAD_CELLS..PAD_CELLS + w).contains(&j);
-                padded[i * cols + j] = (inside && blocked[(i - PAD_CELLS) * w + (j - PAD_CELLS)])
-                    || (x.abs() > 0.5 * g.width && y > 0.0);
-            }
-        }
-        debug_assert_eq!(rows, h + PAD_CELLS);
+        let padded = padded_mask(g, layout, blocked);
         Self {
             layout: layout.clone(),
-            distance: distance_to(&padded, rows, cols, g.cell, DISTANCE_CAP),
+            distance: g.distance.of(&padded, layout.rows, layout.cols),
         }
     }
 
@@ -120,13 +104,66 @@ impl ClearanceField {
     }
 }
 
+/// `blocked` (the map's cells, row-major) on `layout`'s padded grid: beyond the side walls
+/// blocked, outside the opening free.
+fn padded_mask(g: &PlannerGeometry, layout: &FieldLayout, blocked: &[bool]) -> Vec<bool> {
+    let (h, w) = g.grid_shape;
+    let FieldLayout {
+        x0, y0, rows, cols, ..
+    } = *layout;
+    debug_assert_eq!(rows, h + PAD_CELLS);
+    let mut padded = vec![false; rows * cols];
+    for i in 0..rows {
+        let y = y0 + (i as f64 + 0.5) * g.cell;
+        for j in 0..cols {
+            let x = x0 + (j as f64 + 0.5) * g.cell;
+            let inside = i >= PAD_CELLS && (PAD_CELLS..PAD_CELLS + w).contains(&j);
+            padded[i * cols + j] = (inside && blocked[(i - PAD_CELLS) * w + (j - PAD_CELLS)])
+                || (x.abs() > 0.5 * g.width && y > 0.0);
+        }
+    }
+    padded
+}
+
+/// The cells the finger must not sweep into, padded as a [`ClearanceField`] is: the finger
+/// asks only whether a point is in such a cell (a field's distance under half a cell is
+/// exactly that), so no distance is computed.
+pub struct SweepMask {
+    layout: FieldLayout,
+    blocked: Vec<bool>,
+}
+
+impl SweepMask {
+    /// The mask of `blocked` (the map's cells, row-major) on `layout`.
+    pub fn new(g: &PlannerGeometry, layout: &FieldLayout, blocked: &[bool]) -> Self {
+        Self {
+            layout: layout.clone(),
+            blocked: padded_mask(g, layout, blocked),
+        }
+    }
+
+    /// Whether the cell holding `(x, y)` is free (outside the padded grid: free).
+    pub fn is_free_at(&self, x: f64, y: f64) -> bool {
+        self.is_free_cell(self.layout.row(y), self.layout.column(x))
+    }
+
+    /// Whether cell (`row`, `column`) is free (either outside: free).
+    #[inline]
+    fn is_free_cell(&self, row: Option<usize>, column: Option<usize>) -> bool {
+        match (row, column) {
+            (Some(i), Some(j)) => !self.blocked[i * self.layout.cols + j],
+            _ => true,
+        }
+    }
+}
+
 /// The deepest wrist depth along lane `x` the wrist reaches without coming near a cell
 /// that may hold a jar (`field`), the fingertip ahead clear of seen jars (`solid`); `None`
 /// if the lane is blocked at the opening.
 pub fn deepest_clear(
     g: &PlannerGeometry,
     field: &ClearanceField,
-    solid: &ClearanceField,
+    solid: &SweepMask,
     x: f64,
 ) -> Option<f64> {
     let wrist_room = g.wrist_half_extent + MARGIN + 0.5 * g.cell;
@@ -134,7 +171,7 @@ pub fn deepest_clear(
     for y in arange(-g.wrist_half_extent, g.depth, 0.5 * g.cell) {
         let clear = field.at(x, y + g.wrist_half_extent) >= wrist_room
             && field.at(x, y) >= wrist_room
-            && solid.at(x, y + g.reach) >= 0.5 * g.cell;
+            && solid.is_free_at(x, y + g.reach);
         if !clear {
             break;
         }
@@ -247,7 +284,7 @@ pub fn safe_angle(
     g: &PlannerGeometry,
     turns: &TurnProbe,
     field: &ClearanceField,
-    solid: &ClearanceField,
+    solid: &SweepMask,
     [lane, depth]: [usize; 2],
     side: f64,
 ) -> f64 {
@@ -269,11 +306,46 @@ pub fn safe_angle(
         }
         safe = angle;
         let (columns, rows) = (&finger.columns[lane], &finger.rows[depth]);
-        let finger_free =
-            (0..columns.len()).all(|k| solid.at_cell(rows[k], columns[k]) >= 0.5 * g.cell);
+        let finger_free = (0..columns.len()).all(|k| solid.is_free_cell(rows[k], columns[k]));
         if !finger_free {
             break;
         }
     }
     safe
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::episode::EpisodeConfig;
+
+    #[test]
+    fn the_sweep_mask_is_free_exactly_where_the_field_is_half_a_cell_clear() {
+        let g = PlannerGeometry::of(&EpisodeConfig::default()).expect("the default geometry");
+        let layout = FieldLayout::new(&g);
+        let mut state = 3u64;
+        let blocked: Vec<bool> = (0..g.xs.len())
+            .map(|_| {
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (state >> 60) == 0
+            })
+            .collect();
+        let (field, mask) = (
+            ClearanceField::new(&g, &layout, &blocked),
+            SweepMask::new(&g, &layout, &blocked),
+        );
+        let half = 0.5 * g.cell;
+        let mut points = 0;
+        for i in -20..(2 * layout.rows as i64 + 20) {
+            for j in -20..(2 * layout.cols as i64 + 20) {
+                // Points on a half-cell lattice, beyond the padded grid too.
+                let (x, y) = (layout.x0 + j as f64 * half, layout.y0 + i as f64 * half);
+                assert_eq!(mask.is_free_at(x, y), field.at(x, y) >= half, "({x}, {y})");
+                points += 1;
+            }
+        }
+        assert!(points > 10_000);
+    }
 }

@@ -7,67 +7,83 @@
 //! lower envelope of the rows' parabolas, in integers), O(cells) instead of the brute
 //! force's O(cells · (cap / cell)²).
 
-/// Per cell of the `(rows, cols)` row-major `mask`: the distance from its centre to the
-/// nearest centre of a `mask` cell, `cell * hypot(di, dj)`, or `cap` where none is nearer
-/// than `cap` (m).
-pub fn distance_to(mask: &[bool], rows: usize, cols: usize, cell: f64, cap: f64) -> Vec<f64> {
-    debug_assert_eq!(mask.len(), rows * cols);
-    let reach = (cap / cell).ceil() as usize;
-    // Per row, the column distance to the nearest masked cell in that row (none: -1).
-    let mut along_row = vec![-1i64; rows * cols];
-    for i in 0..rows {
-        let row = &mask[i * cols..(i + 1) * cols];
-        let out = &mut along_row[i * cols..(i + 1) * cols];
-        let mut last = None;
-        for j in 0..cols {
-            if row[j] {
-                last = Some(j);
-            }
-            if let Some(k) = last {
-                out[j] = (j - k) as i64;
-            }
-        }
-        let mut next = None;
-        for j in (0..cols).rev() {
-            if row[j] {
-                next = Some(j);
-            }
-            if let Some(k) = next {
-                let d = (k - j) as i64;
-                out[j] = if out[j] < 0 { d } else { out[j].min(d) };
-            }
-        }
+/// The capped distance transform of one cell size and cap: the distance of every squared
+/// offset within the cap's reach is found once, for every mask transformed.
+#[derive(Debug, Clone)]
+pub struct CappedDistance {
+    cap: f64,
+    /// `cell * hypot(di, dj)` per `di² + dj²` within reach ([`smallest_distance`]).
+    table: Vec<f64>,
+}
+
+impl CappedDistance {
+    /// The transform of cells of side `cell` capped at `cap` (m).
+    pub fn new(cell: f64, cap: f64) -> Self {
+        let reach = (cap / cell).ceil() as usize;
+        let table = (0..=2 * reach * reach)
+            .map(|squared| smallest_distance(squared, reach, cell))
+            .collect();
+        Self { cap, table }
     }
-    // The distance of every squared offset within reach (the smallest such offset's).
-    let table: Vec<f64> = (0..=2 * reach * reach)
-        .map(|squared| smallest_distance(squared, reach, cell))
-        .collect();
-    let mut best = vec![cap; rows * cols];
-    let mut envelope = LowerEnvelope::with_capacity(rows);
-    for j in 0..cols {
-        // Per column, the least over rows k of (i - k)² + along_row(k)²: the lower envelope
-        // of one parabola per row that holds a masked cell.
-        envelope.clear();
-        for k in 0..rows {
-            let dj = along_row[k * cols + j];
-            if dj >= 0 {
-                envelope.add(k as i64, dj * dj);
-            }
-        }
-        if envelope.is_empty() {
-            continue;
-        }
-        let mut segment = 0;
+
+    /// Per cell of the `(rows, cols)` row-major `mask`: the distance from its centre to the
+    /// nearest centre of a `mask` cell, `cell * hypot(di, dj)`, or the cap where none is
+    /// nearer than it (m).
+    pub fn of(&self, mask: &[bool], rows: usize, cols: usize) -> Vec<f64> {
+        debug_assert_eq!(mask.len(), rows * cols);
+        let (cap, table) = (self.cap, &self.table);
+        // Per row, the column distance to the nearest masked cell in that row (none: -1).
+        let mut along_row = vec![-1i64; rows * cols];
         for i in 0..rows {
-            let squared = envelope.least_at(i as i64, &mut segment) as usize;
-            if let Some(&d) = table.get(squared) {
-                if d < cap {
-                    best[i * cols + j] = d;
+            let row = &mask[i * cols..(i + 1) * cols];
+            let out = &mut along_row[i * cols..(i + 1) * cols];
+            let mut last = None;
+            for j in 0..cols {
+                if row[j] {
+                    last = Some(j);
+                }
+                if let Some(k) = last {
+                    out[j] = (j - k) as i64;
+                }
+            }
+            let mut next = None;
+            for j in (0..cols).rev() {
+                if row[j] {
+                    next = Some(j);
+                }
+                if let Some(k) = next {
+                    let d = (k - j) as i64;
+                    out[j] = if out[j] < 0 { d } else { out[j].min(d) };
                 }
             }
         }
+        let mut best = vec![cap; rows * cols];
+        let mut envelope = LowerEnvelope::with_capacity(rows);
+        for j in 0..cols {
+            // Per column, the least over rows k of (i - k)² + along_row(k)²: the lower envelope
+            // of one parabola per row that holds a masked cell.
+            envelope.clear();
+            for k in 0..rows {
+                let dj = along_row[k * cols + j];
+                if dj >= 0 {
+                    envelope.add(k as i64, dj * dj);
+                }
+            }
+            if envelope.is_empty() {
+                continue;
+            }
+            let mut segment = 0;
+            for i in 0..rows {
+                let squared = envelope.least_at(i as i64, &mut segment) as usize;
+                if let Some(&d) = table.get(squared) {
+                    if d < cap {
+                        best[i * cols + j] = d;
+                    }
+                }
+            }
+        }
+        best
     }
-    best
 }
 
 /// The lower envelope of the parabolas `(x - vertex)² + height`, vertices added in rising
@@ -197,7 +213,7 @@ mod tests {
                     ((state >> 33) as f64 / (1u64 << 31) as f64) < density
                 })
                 .collect();
-            let fast = distance_to(&mask, rows, cols, 0.0075, 0.08);
+            let fast = CappedDistance::new(0.0075, 0.08).of(&mask, rows, cols);
             assert_eq!(
                 fast,
                 brute_force(&mask, rows, cols, 0.0075, 0.08),
@@ -208,7 +224,8 @@ mod tests {
 
     #[test]
     fn an_empty_mask_is_at_the_cap_everywhere() {
-        assert!(distance_to(&[false; 12], 3, 4, 0.01, 0.05)
+        assert!(CappedDistance::new(0.01, 0.05)
+            .of(&[false; 12], 3, 4)
             .iter()
             .all(|&d| d == 0.05));
     }

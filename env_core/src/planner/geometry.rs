@@ -2,6 +2,8 @@
 //! [`StaticGeometry`] (no ground truth of an episode) with the map's cell centres and the
 //! largest sweep angle, under the names the planner's rules use.
 
+use super::belief::DISTANCE_CAP;
+use super::distance::CappedDistance;
 use crate::episode::{EpisodeConfig, EpisodeError, ProbeController, StaticGeometry};
 
 /// Static sizes in metres (and radians); see [`StaticGeometry`] for each.
@@ -43,6 +45,9 @@ pub struct PlannerGeometry {
     /// its range, for the camera's shadows.
     pub camera_bearings: Vec<f64>,
     pub camera_ranges: Vec<f64>,
+    /// The distance to the nearest cell of a mask, capped at `DISTANCE_CAP`, on this grid's
+    /// cells (the clearance field's and the seen surfaces').
+    pub distance: CappedDistance,
 }
 
 impl PlannerGeometry {
@@ -87,6 +92,7 @@ impl PlannerGeometry {
             controller: ProbeController::for_episode(config),
             camera_bearings,
             camera_ranges,
+            distance: CappedDistance::new(g.cell, DISTANCE_CAP),
         })
     }
 
@@ -102,6 +108,19 @@ impl PlannerGeometry {
             wrist[0] + self.joint_offset * forward[0],
             wrist[1] + self.joint_offset * forward[1],
         ]
+    }
+
+    /// Every probe of the grid, `[lane, depth, sweep]`, in row-major order (the order of
+    /// the action's index).
+    pub fn probe_actions(&self) -> impl Iterator<Item = [usize; 3]> {
+        let (depths, sweeps) = (self.probe_depths.len(), self.probe_yaws.len());
+        (0..self.probe_lanes.len() * depths * sweeps).map(move |index| {
+            [
+                index / (depths * sweeps),
+                index / sweeps % depths,
+                index % sweeps,
+            ]
+        })
     }
 
     /// The probe a planner falls back to when nothing is worth a probe: straight in at the

@@ -2,7 +2,8 @@
 //! where they are cheap (here, beside the probe controller) instead of in Python.
 //!
 //! - [`probe_planner`]: the GPIS probe planner ([`ProbePlanner`]), the teacher of every
-//!   search recipe, built on its [`belief`] and the [`clearance`] queries.
+//!   search recipe, built on its [`belief`], the [`clearance`] queries and [`reachable`]
+//!   (which probes the hand can make, asked probe by probe).
 //! - [`identify_planner`]: the identify task's planner ([`IdentifyPlanner`]): the search
 //!   planner's probes, its touched jars' shapes told from their contacts, and the claim.
 //! - [`map_planner`]: the map task's greedy mappers ([`MapPlanner`]): the probe whose
@@ -26,6 +27,7 @@ pub mod identify_planner;
 pub mod map_planner;
 mod numeric;
 pub mod probe_planner;
+mod reachable;
 
 pub use batch::{act_batch, Planner};
 pub use error::PlannerError;

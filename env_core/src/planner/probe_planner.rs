@@ -23,21 +23,21 @@
 use std::sync::Arc;
 
 use super::belief::Belief;
-use super::clearance::{deepest_clear, safe_angle, ClearanceField, FieldLayout, TurnProbe};
+use super::clearance::{FieldLayout, TurnProbe};
 use super::error::PlannerError;
 use super::geometry::PlannerGeometry;
 use super::numeric::pairwise_sum;
+use super::reachable::Reachable;
+use crate::episode::decode_proprio;
 use crate::episode::maps::{decode_image, MapMode};
-use crate::episode::{decode_proprio, Probe};
 use crate::episode::{ActionMode, EpisodeConfig, Quantity, PROPRIO_LEN};
-use crate::scene::HandPose;
 use crate::settings::Choice;
 
 /// Motions added to every probe's cost (favours probes that cover more at once).
 const COST_OFFSET: f64 = 15.0;
 /// A pose is at a lane, or has not turned, within these (m, rad).
-const LANE_TOL: f64 = 1e-4;
-const YAW_TOL: f64 = 1e-3;
+pub(super) const LANE_TOL: f64 = 1e-4;
+pub(super) const YAW_TOL: f64 = 1e-3;
 /// An offset this near the finger's length (as a share) was clipped by the observation.
 const CLIPPED_SHARE: f64 = 0.999;
 
@@ -143,6 +143,10 @@ struct Statics {
 #[derive(Debug)]
 pub(super) struct ProbePaths {
     cells: Vec<Vec<u32>>,
+    /// The same cells as bits, `words` 64-bit words per probe: a probe's cells of positive
+    /// weight are then a few words ANDed, not a walk along its path.
+    bits: Vec<u64>,
+    words: usize,
 }
 
 impl ProbePaths {
@@ -172,14 +176,66 @@ impl ProbePaths {
                 }
             }
         }
-        Self { cells }
+        let words = g.xs.len().div_ceil(64);
+        let mut bits = vec![0u64; cells.len() * words];
+        for (probe, path) in cells.iter().enumerate() {
+            for &k in path {
+                bits[probe * words + k as usize / 64] |= 1 << (k % 64);
+            }
+        }
+        Self { cells, bits, words }
     }
 
     /// The cells probe `action` passes.
     fn of(&self, g: &PlannerGeometry, action: [i64; 3]) -> &[u32] {
         let [lane, depth, sweep] = action.map(|i| i as usize);
-        let index = (lane * g.probe_depths.len() + depth) * g.probe_yaws.len() + sweep;
-        &self.cells[index]
+        &self.cells[(lane * g.probe_depths.len() + depth) * g.probe_yaws.len() + sweep]
+    }
+
+    /// The cells where `weight` is positive, as bits (the layout of a probe's bits), and
+    /// the first word that holds any (the words before it are 0).
+    fn positive(&self, weight: &[f64]) -> (Vec<u64>, usize) {
+        let mut bits = vec![0u64; self.words];
+        for (k, _) in weight.iter().enumerate().filter(|(_, &w)| w > 0.0) {
+            bits[k / 64] |= 1 << (k % 64);
+        }
+        let first = bits
+            .iter()
+            .position(|&word| word != 0)
+            .unwrap_or(self.words);
+        let last = bits
+            .iter()
+            .rposition(|&word| word != 0)
+            .map_or(first, |w| w + 1);
+        bits.truncate(last);
+        (bits, first)
+    }
+
+    /// The weight the finger of the probe of row-major index `index` passes: [`path_weight`]'s sum of
+    /// `weight` over its cells of positive weight (`positive` from its first word on, [`ProbePaths::positive`]), in
+    /// cell order; 0 where it passes none. `covered` is scratch space.
+    fn passed(
+        &self,
+        index: usize,
+        weight: &[f64],
+        (positive, first): (&[u64], usize),
+        covered: &mut Vec<f64>,
+    ) -> f64 {
+        let path = &self.bits[index * self.words..(index + 1) * self.words];
+        covered.clear();
+        // Only the words that hold positive weight (`positive` ends at the last of them).
+        for (word, (&cells, &positive)) in path.iter().zip(positive).enumerate().skip(first) {
+            let mut both = cells & positive;
+            while both != 0 {
+                covered.push(weight[word * 64 + both.trailing_zeros() as usize]);
+                both &= both - 1;
+            }
+        }
+        if covered.is_empty() {
+            0.0
+        } else {
+            pairwise_sum(covered)
+        }
     }
 }
 
@@ -495,27 +551,53 @@ impl ProbePlanner {
     /// The grid probe with the most hiding weight under its finger per motion: where the
     /// target may hide by the strict conditions, or, when no probe the hand can make covers
     /// any of that, by the relaxed ones.
+    ///
+    /// The result is that of scoring [`ProbePlanner::candidates`] in row-major order, the
+    /// first of the highest score winning; but only a probe whose finger passes some weight
+    /// can score, and its motions are at least those to its lane and depth, which bounds its
+    /// score. The probes are taken from the highest bound down, and only until no bound is
+    /// left that could reach the best: so few have their sweep's motions counted, and fewer
+    /// still are asked whether the hand can make them (the safe turn).
     pub(super) fn choose(&self, pose: &Pose) -> [i64; 3] {
         let g = &self.statics.geometry;
         let belief = self.belief();
-        let candidates = self.candidates(pose);
+        let paths = &self.statics.search_paths;
+        let mut reachable = self.reachable(pose, &belief.solid(0.0));
         // Count what a probe that touches nothing clears from the belief (the cells its
         // sweep marks), not the wider ring within a jar radius of the finger: that ring is
         // never cleared, and counting it made a probe worth repeating.
+        let mut covered = Vec::new();
         for relaxed in [false, true] {
             let weight = belief.hiding_weight(g, relaxed);
-            let mut best: Option<[i64; 3]> = None;
-            let mut best_score = 0.0;
-            let paths = &self.statics.search_paths;
-            self.path_weights(&candidates, &weight, paths, |candidate, covered| {
-                let score = covered / (candidate.motions + COST_OFFSET);
-                if score > best_score {
-                    best = Some(candidate.action);
-                    best_score = score;
+            let positive = paths.positive(&weight);
+            // (bound, row-major index, action, the weight it passes)
+            let mut bounded = Vec::new();
+            for (index, action) in g.probe_actions().enumerate() {
+                if !reachable.reaches_depth(action) {
+                    continue;
                 }
-            });
-            if let Some(best) = best {
-                return best;
+                let passed = paths.passed(index, &weight, (&positive.0, positive.1), &mut covered);
+                if passed > 0.0 {
+                    let least = reachable.least_motions(action) as f64 + COST_OFFSET;
+                    bounded.push((passed / least, index, action, passed));
+                }
+            }
+            bounded.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+            let mut best: Option<(f64, usize, [usize; 3])> = None;
+            for (bound, index, action, passed) in bounded {
+                if best.is_some_and(|(score, _, _)| bound < score) {
+                    break; // neither this probe nor any after it reaches the best
+                }
+                let score = passed / (reachable.motions(action) as f64 + COST_OFFSET);
+                let better = best.is_none_or(|(best_score, best_index, _)| {
+                    score > best_score || (score == best_score && index < best_index)
+                });
+                if better && reachable.turn_is_safe(action) && !reachable.is_wait(action) {
+                    best = Some((score, index, action));
+                }
+            }
+            if let Some((_, _, action)) = best {
+                return action.map(|i| i as i64);
             }
         }
         // Nothing left to cover: straight in at the middle lane's opening.
@@ -523,8 +605,7 @@ impl ProbePlanner {
     }
 
     /// Calls `visit` with each of `candidates` in order and the sum of `weight` (per cell,
-    /// ≥ 0) over the cells its finger's path passes (`paths`), numpy's sum over those of
-    /// positive weight in cell order: the weights its finger passes.
+    /// ≥ 0) over the cells its finger's path passes (`paths`, [`path_weight`]).
     pub(super) fn path_weights(
         &self,
         candidates: &[Candidate],
@@ -535,15 +616,10 @@ impl ProbePlanner {
         let g = &self.statics.geometry;
         let mut covered = Vec::new();
         for candidate in candidates {
-            covered.clear();
-            covered.extend(
-                paths
-                    .of(g, candidate.action)
-                    .iter()
-                    .map(|&k| weight[k as usize])
-                    .filter(|&w| w > 0.0),
+            visit(
+                candidate,
+                path_weight(paths.of(g, candidate.action), weight, &mut covered),
             );
-            visit(candidate, pairwise_sum(&covered));
         }
     }
 
@@ -557,56 +633,34 @@ impl ProbePlanner {
     /// (`solid_cells`, a mask of the map's cells): every grid probe clear of them and of
     /// every cell that may hold a jar for the wrist and arm, except a wait.
     pub(super) fn clear_probes(&self, pose: &Pose, solid_cells: &[bool]) -> Vec<Candidate> {
+        self.reachable(pose, solid_cells).all()
+    }
+
+    /// The grid's probes from `pose`, the wrist and arm kept clear of every cell that may
+    /// hold a jar and the finger out of `solid_cells`.
+    fn reachable(&self, pose: &Pose, solid_cells: &[bool]) -> Reachable<'_> {
         let Statics {
             geometry: g,
             layout,
             turns,
             ..
         } = &*self.statics;
-        let belief = self.belief();
-        let field = ClearanceField::new(g, layout, &belief.blocked(g));
-        let solid = ClearanceField::new(g, layout, solid_cells);
-        let from = HandPose {
-            x: pose.x,
-            y: pose.y,
-            yaw: pose.yaw,
-        };
-        let mut reachable = Vec::new();
-        for (lane, &x) in g.probe_lanes.iter().enumerate() {
-            let Some(deepest) = deepest_clear(g, &field, &solid, x) else {
-                continue;
-            };
-            for (depth, &y) in g.probe_depths.iter().enumerate() {
-                if y > deepest + 1e-9 {
-                    break;
-                }
-                let safe = |side: f64| safe_angle(g, turns, &field, &solid, [lane, depth], side);
-                let safe = [safe(-1.0), safe(1.0)];
-                // The motions to this lane and depth, shared by its sweeps.
-                let (approach, reached) = g.controller.approach(from, &Probe { x, y, yaw: 0.0 });
-                for (sweep, &yaw) in g.probe_yaws.iter().enumerate() {
-                    let side = if yaw < 0.0 { 1.0 } else { -1.0 };
-                    let angle = yaw.abs();
-                    if angle > safe[usize::from(side > 0.0)] + 1e-9 {
-                        continue;
-                    }
-                    let is_here = (pose.x - x).abs() <= LANE_TOL
-                        && (pose.y - y).abs() <= LANE_TOL
-                        && (pose.yaw - yaw).abs() <= YAW_TOL;
-                    if is_here {
-                        continue; // a wait: the scene does not change while the hand waits
-                    }
-                    let motions = approach + g.controller.motions(reached, &Probe { x, y, yaw });
-                    reachable.push(Candidate {
-                        action: [lane as i64, depth as i64, sweep as i64],
-                        probe: SweptProbe { x, y, side, angle },
-                        motions: motions as f64,
-                    });
-                }
-            }
-        }
-        reachable
+        let blocked = self.belief().blocked(g);
+        Reachable::new(g, layout, turns, &blocked, solid_cells, *pose)
     }
+}
+
+/// The sum of `weight` (per cell, ≥ 0) over `path`'s cells, numpy's sum over those of
+/// positive weight in cell order: the weight a finger passing them passes (`covered` is
+/// scratch space).
+fn path_weight(path: &[u32], weight: &[f64], covered: &mut Vec<f64>) -> f64 {
+    covered.clear();
+    covered.extend(
+        path.iter()
+            .map(|&k| weight[k as usize])
+            .filter(|&w| w > 0.0),
+    );
+    pairwise_sum(covered)
 }
 
 /// A candidate jar centre seen from a probe's wrist position: what [`covers`] needs of it
@@ -655,6 +709,11 @@ impl FromWrist {
         let phi = bearings[usize::from(side > 0.0)];
         let half_pi = std::f64::consts::FRAC_PI_2;
         let beyond = (phi - phi.clamp(0.0, angle)).clamp(-half_pi, half_pi);
+        if beyond == 0.0 {
+            // Within the turn's sector: on the finger's ray (the sine and cosine of 0 are
+            // exactly 0 and 1, so this is the general case's result).
+            return rho >= g.joint_offset;
+        }
         let off_ray = rho * beyond.abs().sin();
         let along_ray = rho * beyond.cos();
         off_ray <= hit && along_ray >= g.joint_offset

@@ -231,7 +231,7 @@ pub struct DecodeError {
 /// The decoded channels of a `mode` image over `cells` cells (channel first, each `cells`
 /// long): one (name, values) per channel that carries a quantity, in channel order; none
 /// for a mode without an image. Fails when `image` is not `channels × cells` long. Cost
-/// O(channels · cells).
+/// O(channels · (cells + 256)).
 pub fn decode_image(
     config: &MapConfig,
     cells: usize,
@@ -254,7 +254,9 @@ pub fn decode_image(
         .zip(image.chunks_exact(cells.max(1)))
         .filter_map(|(channel, pixels)| {
             let decoder = channel.decoded.as_ref()?;
-            let values = pixels.iter().map(|&p| (decoder.value)(p, config)).collect();
+            // A pixel has 256 values: decode each once, then look the cells up.
+            let table: Vec<f64> = (0..=u8::MAX).map(|p| (decoder.value)(p, config)).collect();
+            let values = pixels.iter().map(|&p| table[usize::from(p)]).collect();
             Some((decoder.name, values))
         })
         .collect())
