@@ -100,11 +100,44 @@ def run_recipe(
     return recipe
 
 
-def algorithm_kwargs(recipe: dict[str, Any]) -> dict[str, Any]:
+#: Arguments a recipe may give as a schedule, rl-baselines3-zoo's ``lin_<value>``: from
+#: the value at the start of the run to 0 at its last timestep.
+SCHEDULED_KEYS = ("learning_rate", "clip_range")
+
+
+def schedule(key: str, value: Any) -> Any:
+    """``value`` of argument ``key`` as SB3 takes it: a number as it is; rl-zoo3's
+    ``"lin_<value>"`` as SB3's linear schedule from that value to 0 over the run (progress
+    1 to 0); ``ValueError`` naming the forms for anything else."""
+    if not isinstance(value, str):
+        return value
+    prefix, _, number = value.partition("_")
+    try:
+        start = float(number)
+    except ValueError:
+        start = float("nan")
+    if prefix != "lin" or not start > 0:
+        raise ValueError(
+            f"{key} must be a number or 'lin_<value>' (linear from a positive value to 0, "
+            f"rl-zoo3's form), got {value!r}"
+        )
+    from stable_baselines3.common.utils import LinearSchedule
+
+    return LinearSchedule(start=start, end=0.0, end_fraction=1.0)
+
+
+def algorithm_kwargs(recipe: dict[str, Any], make_schedules: bool = True) -> dict[str, Any]:
     """The recipe's arguments for the SB3 algorithm: every key but ``RUN_KEYS``, with its
     ``policy_kwargs``' classes imported (``tactile_search.networks.recipe_classes``: a
-    module that has since moved is read at its new place)."""
+    module that has since moved is read at its new place) and, with ``make_schedules``,
+    ``SCHEDULED_KEYS`` given as ``lin_<value>`` made schedules (``schedule``; rl-zoo3 makes
+    its own from the strings)."""
     kwargs = {key: value for key, value in recipe.items() if key not in RUN_KEYS}
+    for key in SCHEDULED_KEYS:
+        if key in kwargs:
+            made = schedule(key, kwargs[key])  # checked either way
+            if make_schedules:
+                kwargs[key] = made
     kwargs.pop("policy_kwargs", None)
     classes = policy_kwargs(recipe)
     if classes:

@@ -44,4 +44,4 @@ def zoo_hyperparams(algo: str, map_mode: str) -> dict[str, dict[str, Any]]:
     {...}}`` (see the module docstring)."""
     recipe = load_hyperparams(algo, map_mode)
     run = {key: recipe[key] for key in ZOO_RUN_KEYS if key in recipe}
-    return {ENV_ID: {**run, **algorithm_kwargs(recipe)}}
+    return {ENV_ID: {**run, **algorithm_kwargs(recipe, make_schedules=False)}}
