@@ -25,8 +25,6 @@ const SHADOW_HALF_WIDTH: f64 = 0.015;
 pub const SOLID_MEAN: f64 = 0.002;
 /// ...where the std is below this (elsewhere a negative mean is the GPIS extrapolating), m.
 const SOLID_STD: f64 = 0.02;
-/// The cap of the distance to the camera's seen surfaces, m.
-pub const DISTANCE_CAP: f64 = 0.08;
 /// Two touches nearer than this (m) estimate one jar.
 const SAME_JAR: f64 = 0.02;
 

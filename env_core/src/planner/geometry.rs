@@ -2,9 +2,12 @@
 //! [`StaticGeometry`] (no ground truth of an episode) with the map's cell centres and the
 //! largest sweep angle, under the names the planner's rules use.
 
-use super::belief::DISTANCE_CAP;
 use super::distance::CappedDistance;
 use crate::episode::{EpisodeConfig, EpisodeError, ProbeController, StaticGeometry};
+
+/// The cap of the planner's distances to a mask's cells (the seen surfaces, the cells that
+/// may hold a jar), m.
+pub const DISTANCE_CAP: f64 = 0.08;
 
 /// Static sizes in metres (and radians); see [`StaticGeometry`] for each.
 #[derive(Debug, Clone)]

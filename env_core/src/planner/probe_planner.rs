@@ -27,17 +27,16 @@ use super::clearance::{FieldLayout, TurnProbe};
 use super::error::PlannerError;
 use super::geometry::PlannerGeometry;
 use super::numeric::pairwise_sum;
-use super::reachable::Reachable;
+pub(super) use super::reachable::{Candidate, SweptProbe};
+use super::reachable::{Reachable, LANE_TOL};
 use crate::episode::decode_proprio;
 use crate::episode::maps::{decode_image, MapMode};
 use crate::episode::{ActionMode, EpisodeConfig, Quantity, PROPRIO_LEN};
+use crate::scene::HandPose;
 use crate::settings::Choice;
 
 /// Motions added to every probe's cost (favours probes that cover more at once).
 const COST_OFFSET: f64 = 15.0;
-/// A pose is at a lane, or has not turned, within these (m, rad).
-pub(super) const LANE_TOL: f64 = 1e-4;
-pub(super) const YAW_TOL: f64 = 1e-3;
 /// An offset this near the finger's length (as a share) was clipped by the observation.
 const CLIPPED_SHARE: f64 = 0.999;
 
@@ -95,23 +94,6 @@ pub(super) type MapChannel = (&'static str, Vec<f64>);
 
 /// The occupancy above which a cell counts as a jar, and below 1 minus which as free.
 pub(super) const OCCUPIED: f64 = 0.55;
-
-/// A probe as its finger path: in along lane `x` to wrist depth `y`, then a turn of
-/// `angle` rad towards `side` (+1: +x).
-#[derive(Debug, Clone, Copy)]
-pub(super) struct SweptProbe {
-    pub x: f64,
-    pub y: f64,
-    pub side: f64,
-    pub angle: f64,
-}
-
-/// A probe the hand can make, with the motions the controller takes to make it.
-pub(super) struct Candidate {
-    pub action: [i64; 3],
-    pub probe: SweptProbe,
-    pub motions: f64,
-}
 
 /// The planner of one episode at a time (see the module docs). Clones share what the
 /// settings fix (a batch's planners build it once).
@@ -646,7 +628,12 @@ impl ProbePlanner {
             ..
         } = &*self.statics;
         let blocked = self.belief().blocked(g);
-        Reachable::new(g, layout, turns, &blocked, solid_cells, *pose)
+        let pose = HandPose {
+            x: pose.x,
+            y: pose.y,
+            yaw: pose.yaw,
+        };
+        Reachable::new(g, layout, turns, &blocked, solid_cells, pose)
     }
 }
 

@@ -12,9 +12,29 @@ use super::clearance::{
     deepest_clear, safe_angle, ClearanceField, FieldLayout, SweepMask, TurnProbe,
 };
 use super::geometry::PlannerGeometry;
-use super::probe_planner::{Candidate, Pose, SweptProbe, LANE_TOL, YAW_TOL};
 use crate::episode::Probe;
 use crate::scene::HandPose;
+
+/// A pose is at a lane, or has not turned, within these (m, rad).
+pub(super) const LANE_TOL: f64 = 1e-4;
+pub(super) const YAW_TOL: f64 = 1e-3;
+
+/// A probe as its finger path: in along lane `x` to wrist depth `y`, then a turn of
+/// `angle` rad towards `side` (+1: +x).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct SweptProbe {
+    pub x: f64,
+    pub y: f64,
+    pub side: f64,
+    pub angle: f64,
+}
+
+/// A probe the hand can make, with the motions the controller takes to make it.
+pub(super) struct Candidate {
+    pub action: [i64; 3],
+    pub probe: SweptProbe,
+    pub motions: f64,
+}
 
 /// The grid's probes as seen from one pose and one belief (see the module docs).
 pub(super) struct Reachable<'a> {
@@ -24,7 +44,7 @@ pub(super) struct Reachable<'a> {
     field: ClearanceField,
     /// The cells the finger must not sweep into.
     solid: SweepMask,
-    pose: Pose,
+    pose: HandPose,
     /// Per lane, once asked: how deep the wrist goes (`None`: blocked at the opening).
     deepest: Vec<Option<Option<f64>>>,
     /// Per (lane, depth), once asked: the largest safe turn towards −x and towards +x.
@@ -43,7 +63,7 @@ impl<'a> Reachable<'a> {
         turns: &'a TurnProbe,
         blocked: &[bool],
         solid_cells: &[bool],
-        pose: Pose,
+        pose: HandPose,
     ) -> Self {
         let positions = g.probe_lanes.len() * g.probe_depths.len();
         Self {
@@ -91,13 +111,9 @@ impl<'a> Reachable<'a> {
     /// and the pose they end in: the part of its motions its sweep does not change.
     fn approach(&mut self, [lane, depth, _]: [usize; 3]) -> (usize, HandPose) {
         let (g, pose) = (self.g, self.pose);
-        let approaches = self.approaches.get_or_insert_with(|| {
-            g.controller.approaches(HandPose {
-                x: pose.x,
-                y: pose.y,
-                yaw: pose.yaw,
-            })
-        });
+        let approaches = self
+            .approaches
+            .get_or_insert_with(|| g.controller.approaches(pose));
         approaches[lane * g.probe_depths.len() + depth]
     }
 
