@@ -1,11 +1,14 @@
-"""Train a stable-baselines3 agent on ``tactile_search/CupboardSearch-v0`` (the command)::
+"""Train a stable-baselines3 agent on a registered id, ``tactile_search/CupboardSearch-v0``
+by default (the command)::
 
     python -m agents.train --algo ppo --map gpis --seed 0 --out runs
+    python -m agents.train --env-id tactile_search/IdentifyByTouch-v0 --out runs/identify
     python -m agents.train --algo recurrent_ppo --map none --timesteps 200000
     python -m agents.train --algo ppo --map gpis --seed 0 --out runs --resume
 
 A thin CLI over ``agents.imitation.clone_stage.train_with_clone_stage``: a PPO recipe's clone
-stage (the GPIS probe planner cloned into the network, ``--imitation`` overrides its settings,
+stage (the recipe's teacher, the GPIS probe planner unless it names another, cloned into the
+network, ``--imitation`` overrides its settings,
 ``--from-scratch`` skips it), then ``agents.sb3.training.train``, which documents the run
 it writes.
 """
@@ -27,6 +30,7 @@ from agents.sb3.training import (
     INTERRUPTED_EXIT_STATUS,
     TrainSettings,
 )
+from tactile_search import ENV_ID, ENV_IDS
 from tactile_search.envs.config import MAP_MODES
 
 
@@ -34,6 +38,13 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--algo", choices=ALGORITHMS, default="ppo")
     parser.add_argument("--map", choices=MAP_MODES, default="gpis", dest="map_mode")
+    parser.add_argument(
+        "--env-id",
+        choices=ENV_IDS,
+        default=ENV_ID,
+        help="the registered id to train on: its task and settings, and the recipe keyed by "
+        "it (a run directory's name does not say the id: give each id its own --out)",
+    )
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--timesteps", type=int, help="override the recipe's n_timesteps")
     parser.add_argument("--n-envs", type=int, help="override the recipe's n_envs")
@@ -86,6 +97,7 @@ def main(argv: list[str] | None = None) -> None:
     settings = TrainSettings(
         args.algo,
         args.map_mode,
+        env_id=args.env_id,
         out=args.out,
         seed=args.seed,
         timesteps=args.timesteps,

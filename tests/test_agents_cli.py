@@ -453,9 +453,10 @@ def test_the_probe_trace_refuses_a_run_of_the_wrist_mode(tmp_path: Path):
     from agents.evaluation.probe_trace import trace
 
     # The no-map recipe without its action mode: the core's default, the wrist mode.
+    from tactile_search import ENV_ID
+
     recipe = yaml.safe_load((REPO / "agents/hyperparams/ppo.yml").read_text())
-    (env_id,) = recipe
-    del recipe[env_id]["none"]["env_kwargs"]["action_mode"]
+    del recipe[ENV_ID]["none"]["env_kwargs"]["action_mode"]
     (tmp_path / "wrist.yml").write_text(yaml.safe_dump(recipe))
     run_module(
         "agents.train",

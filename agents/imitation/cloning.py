@@ -197,21 +197,41 @@ def _modes(policy: Any, batch: Demonstrations) -> np.ndarray:
 
 
 def agreement(policy: Any, demonstrations: Demonstrations, batch_size: int = 512) -> dict:
-    """How often the policy's mode is the teacher's probe on ``demonstrations``: the whole
-    probe (``probe``) and each index (``lane``, ``depth``, ``sweep``), as fractions."""
+    """How often the policy's mode is the teacher's action on ``demonstrations``: the whole
+    action (``probe``) and each index (``lane``, ``depth``, ``sweep``), as fractions. Where
+    the actions claim (a fourth entry), a claim is one action whatever probe entries it
+    carries (a claim makes no motion): ``probe`` counts a claim for a claim and the same
+    probe for a probe, ``claim`` how often the two agree on claiming, and the indices are
+    over the teacher's probes alone."""
     import torch
 
     if len(demonstrations) == 0:
         raise ValueError("agreement needs at least one demonstration")
     policy.set_training_mode(False)
-    matches = []
+    modes = []
     with torch.no_grad():
         for index in _in_order(policy, demonstrations, batch_size):
             batch = demonstrations.rows(index)
-            mode = _modes(policy, batch)
-            matches.append(mode.reshape(batch.actions.shape) == batch.actions)
-    equal = np.concatenate(matches)
+            modes.append(_modes(policy, batch).reshape(batch.actions.shape))
+    return matching(np.concatenate(modes), demonstrations.actions)
+
+
+def matching(modes: np.ndarray, actions: np.ndarray) -> dict:
+    """``agreement``'s fractions of the policy's ``modes`` against the teacher's ``actions``
+    (rows of 3 entries, or 4 where the actions claim)."""
+    equal = modes == actions
+    if equal.shape[1] == 3:
+        fractions = {
+            name: float(equal[:, i].mean()) for i, name in enumerate(("lane", "depth", "sweep"))
+        }
+        return {"probe": float(equal.all(axis=1).mean()), **fractions}
+    claims = actions[:, 3] == 1
+    same_claim = equal[:, 3]
+    same = same_claim & (claims | equal[:, :3].all(axis=1))
+    probes = equal[~claims, :3]
     fractions = {
-        name: float(equal[:, i].mean()) for i, name in enumerate(("lane", "depth", "sweep"))
+        name: float(probes[:, i].mean())
+        for i, name in enumerate(("lane", "depth", "sweep"))
+        if len(probes)  # none where the teacher only claimed
     }
-    return {"probe": float(equal.all(axis=1).mean()), **fractions}
+    return {"probe": float(same.mean()), "claim": float(same_claim.mean()), **fractions}

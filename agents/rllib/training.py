@@ -30,7 +30,7 @@ from typing import Any
 
 from agents.grid.ray_session import connect
 from agents.rllib.env import ENV_NAME, register
-from agents.sb3.recipes import load_hyperparams
+from agents.sb3.recipes import load_hyperparams, schedule
 from tactile_search._validation import as_count
 from tactile_search.envs.config import MAP_MODES
 
@@ -68,6 +68,13 @@ def recipe(map_mode: str) -> tuple[dict[str, Any], dict[str, Any], float]:
         raise ValueError(f"map must be one of {MAP_MODES}, got {map_mode!r}")
     hyper = load_hyperparams("ppo", map_mode)
     training = {RECIPE_TO_RLLIB[k]: v for k, v in hyper.items() if k in RECIPE_TO_RLLIB}
+    if isinstance(hyper.get("learning_rate"), str):
+        # rl-zoo3's lin_<value>, linear to 0 over the recipe's timesteps: RLlib's
+        # piecewise schedule of [timestep, rate] pairs.
+        start = schedule("learning_rate", hyper["learning_rate"])(1.0)
+        training["lr"] = [[0, start], [int(hyper["n_timesteps"]), 0.0]]
+    if isinstance(hyper.get("clip_range"), str):
+        raise ValueError("RLlib's clip_param takes no schedule: give the recipe a number")
     log_std_init = float(hyper.get("policy_kwargs", {}).get("log_std_init", -1.0))
     return dict(hyper["env_kwargs"]), training, log_std_init
 

@@ -143,8 +143,9 @@ class LearnedAgent:
         return action
 
     def _predict(self, observation: dict) -> np.ndarray:
+        # One action of the model's space: three entries, four where the task claims.
         action = np.asarray(
             self._actions.predict(observation, deterministic=self.deterministic)
-        ).reshape(3)
+        ).reshape(self.model.action_space.shape)
         # A wrist motion as float32; probe indices stay integers, as the env takes them.
         return action.astype(np.float32) if action.dtype.kind == "f" else action.astype(np.int64)

@@ -59,7 +59,8 @@ def training_class(algo: str, recipe: dict[str, Any]) -> type:
 def load_hyperparams(
     algo: str, map_mode: str, env_id: str = ENV_ID, path: Path | None = None
 ) -> dict[str, Any]:
-    """The recipe for ``algo`` on ``env_id`` with ``map_mode`` from its YAML file."""
+    """The recipe for ``algo`` on ``env_id`` with ``map_mode`` from its YAML file, its
+    ``env_kwargs`` over the id's own settings (``id_settings``)."""
     if algo not in ALGORITHMS:
         raise ValueError(f"algo must be one of {ALGORITHMS}, got {algo!r}")
     path = path or HYPERPARAMS_DIR / f"{algo}.yml"
@@ -72,8 +73,22 @@ def load_hyperparams(
             f"{path} has no {env_id!r} recipe for map {map_mode!r}; it has {sorted(by_map)}"
         )
     recipe = copy.deepcopy(by_map[map_mode])
-    recipe.setdefault("env_kwargs", {})["map"] = map_mode
+    recipe["env_kwargs"] = {**id_settings(env_id), **recipe.get("env_kwargs", {})}
+    recipe["env_kwargs"]["map"] = map_mode
     return recipe
+
+
+def id_settings(env_id: str) -> dict[str, Any]:
+    """The settings registered id ``env_id`` makes its env with
+    (``gymnasium.spec(env_id).kwargs``: its task and tier), under a recipe's own
+    ``env_kwargs``: the envs a run trains, imitates and is evaluated in are the id's. Pairs
+    are lists (a run's ``config.yml`` is plain YAML)."""
+    import gymnasium
+
+    return {
+        key: list(value) if isinstance(value, tuple) else value
+        for key, value in gymnasium.spec(env_id).kwargs.items()
+    }
 
 
 def run_recipe(

@@ -8,6 +8,12 @@ needs the joint: ``JointCategoricalDistribution`` has one logit per probe (29 x 
 defaults) and maps between a probe's index in that list and its ``(lane, depth, sweep)``
 action, and ``JointProbePolicy`` is SB3's ``MultiInputPolicy`` with it as its action head.
 Everything else (encoder, value head, PPO's losses) is SB3's own.
+
+Where the task claims (``MultiDiscrete([lanes, depths, sweeps, 2])``), a claim makes no
+motion: its probe entries mean nothing. ``ProbeOrClaimDistribution`` is then one categorical
+over every probe and one outcome more, the claim: every action whose claim entry is 1 is
+that one outcome (its log-probability does not depend on the probe entries it carries), and
+a sampled claim is ``[0, 0, 0, 1]``.
 """
 
 from __future__ import annotations
@@ -85,9 +91,50 @@ class JointCategoricalDistribution(MultiCategoricalDistribution):
         return self.actions_of(torch.argmax(self.joint.probs, dim=1))
 
 
+class ProbeOrClaimDistribution(JointCategoricalDistribution):
+    """One categorical over every probe of ``action_dims[:3]`` (row-major) and, last, the
+    claim (``action_dims[3]`` must be 2): see the module docs."""
+
+    def __init__(self, action_dims: list[int]) -> None:
+        dims = [int(n) for n in action_dims]
+        if len(dims) != 4 or dims[3] != 2:
+            raise ValueError(
+                "ProbeOrClaimDistribution needs [lanes, depths, sweeps, 2] (a claim entry of "
+                f"two values), got {dims}"
+            )
+        super().__init__(dims)
+        #: The probes' count: the claim's index in the categorical.
+        self.probes = math.prod(dims[:3])
+
+    def proba_distribution_net(self, latent_dim: int) -> nn.Module:
+        return Float32Linear(latent_dim, self.probes + 1)
+
+    def joint_index(self, actions: torch.Tensor) -> torch.Tensor:
+        actions = actions.long()
+        strides = torch.as_tensor(self._strides[:3], device=actions.device) // 2
+        probe = (actions[:, :3] * strides).sum(dim=1)
+        return torch.where(actions[:, 3] == 1, self.probes, probe)
+
+    def actions_of(self, index: torch.Tensor) -> torch.Tensor:
+        strides = [stride // 2 for stride in self._strides[:3]]
+        claims = index == self.probes
+        probe = torch.where(claims, 0, index)
+        entries = [(probe // stride) % n for stride, n in zip(strides, self._dims[:3], strict=True)]
+        return torch.stack([*entries, claims.long()], dim=1)
+
+
+def probe_distribution(action_dims: list[int]) -> JointCategoricalDistribution:
+    """The joint distribution of a probe action space of ``action_dims``: over every probe
+    (``[lanes, depths, sweeps]``), or every probe and the claim (``[..., 2]``)."""
+    if len(action_dims) == 4:
+        return ProbeOrClaimDistribution(action_dims)
+    return JointCategoricalDistribution(action_dims)
+
+
 class JointProbePolicy(MultiInputActorCriticPolicy):
-    """SB3's ``MultiInputPolicy`` with ``JointCategoricalDistribution`` as its action head;
-    for ``MultiDiscrete`` action spaces only."""
+    """SB3's ``MultiInputPolicy`` with ``JointCategoricalDistribution`` (or, where the
+    action claims, ``ProbeOrClaimDistribution``) as its action head; for ``MultiDiscrete``
+    action spaces only."""
 
     def __init__(self, observation_space: Any, action_space: Any, *args: Any, **kwargs: Any):
         from gymnasium import spaces
@@ -102,5 +149,5 @@ class JointProbePolicy(MultiInputActorCriticPolicy):
     def _build(self, lr_schedule: Any) -> None:
         # A MultiDiscrete action space (checked in __init__).
         nvec = cast(spaces.MultiDiscrete, self.action_space).nvec
-        self.action_dist = JointCategoricalDistribution([int(n) for n in nvec])
+        self.action_dist = probe_distribution([int(n) for n in nvec])
         super()._build(lr_schedule)

@@ -10,7 +10,8 @@ ahead of it (bilinear sampling, ``grid_sample``). A per-probe MLP, shared by eve
 depth, turns those features and a global summary (the whole map and the proprioception)
 into the probe's sweep logits; all of them together are one categorical over every probe
 (``JointCategoricalDistribution``), ordered as the ``MultiDiscrete`` action's row-major
-index. The value head reads the global summary.
+index. Where the task claims, the claim is one outcome more, its logit from the global
+summary (``ProbeOrClaimDistribution``). The value head reads the global summary.
 
 The points come from the env's static geometry (``probe_points``, written into the policy's
 arguments when the model is made: ``recipe_classes.policy_kwargs``), so a saved model
@@ -140,15 +141,20 @@ class SpatialProbeExtractor(MapExtractor):
 
 class SpatialProbeHead(nn.Module):
     """Features -> one logit per probe: for every probe, its points' features beside the
-    global summary through a small MLP shared by all probes, to one logit per sweep."""
+    global summary through a small MLP shared by all probes, to one logit per sweep. With
+    ``claims``, one logit more, last: the claim's, from the global summary alone (the
+    proprioception says whether the finger touches; the map, what it has felt)."""
 
-    def __init__(self, global_dim: int, probes: int, point_features: int, sweeps: int) -> None:
+    def __init__(
+        self, global_dim: int, probes: int, point_features: int, sweeps: int, claims: bool = False
+    ) -> None:
         super().__init__()
         self.global_dim, self.probes, self.point_features = global_dim, probes, point_features
         self.context = nn.Linear(global_dim, 32)
         self.mlp = nn.Sequential(
             nn.Linear(point_features + 32, 64), nn.ReLU(), Float32Linear(64, sweeps)
         )
+        self.claim = Float32Linear(32, 1) if claims else None
 
     def forward(self, features: th.Tensor) -> th.Tensor:
         batch = len(features)
@@ -162,7 +168,10 @@ class SpatialProbeHead(nn.Module):
         probe_part = nn.functional.linear(per_probe, weight[:, : self.point_features])
         context_part = nn.functional.linear(context, weight[:, self.point_features :], first.bias)
         hidden = th.relu(probe_part + context_part[:, None, :])
-        return last(hidden).reshape(batch, -1)
+        logits = last(hidden).reshape(batch, -1)
+        if self.claim is None:
+            return logits
+        return th.cat([logits, self.claim(context)], dim=1)
 
 
 class SpatialProbePolicy(JointProbePolicy):
@@ -187,7 +196,13 @@ class SpatialProbePolicy(JointProbePolicy):
                 f"SpatialProbePolicy needs SpatialProbeExtractor, got {type(extractor).__name__}"
             )
         nvec = cast(gym.spaces.MultiDiscrete, self.action_space).nvec  # checked by the base
-        lanes, depths, sweeps = (int(n) for n in nvec)
+        # A probe's (lane, depth, sweep), and the claim where the task claims.
+        lanes, depths, sweeps = (int(n) for n in nvec[:3])
+        if len(nvec) not in (3, 4):
+            raise ValueError(
+                "SpatialProbePolicy needs MultiDiscrete([lanes, depths, sweeps]) or, where the "
+                f"task claims, [lanes, depths, sweeps, 2]; got {list(nvec)}"
+            )
         if extractor.probes != lanes * depths:
             raise ValueError(
                 f"the extractor's probe_points hold {extractor.probes} probes, the action "
@@ -195,7 +210,11 @@ class SpatialProbePolicy(JointProbePolicy):
             )
         super()._build(lr_schedule)
         self.action_net = SpatialProbeHead(
-            extractor.global_dim, extractor.probes, extractor.point_features, sweeps
+            extractor.global_dim,
+            extractor.probes,
+            extractor.point_features,
+            sweeps,
+            claims=len(nvec) == 4,
         )
         # The value MLP reads the global summary only (the first global_dim features).
         self.mlp_extractor.value_net = nn.Sequential(

@@ -1,0 +1,38 @@
+"""A recipe keyed by a registered id trains, imitates and is evaluated in that id's
+settings: ``load_hyperparams`` puts the id's own (its task and tier) under the recipe's
+``env_kwargs``, as plain YAML."""
+
+from __future__ import annotations
+
+import gymnasium
+import pytest
+import yaml
+
+from agents.sb3.recipes import HYPERPARAMS_DIR, load_hyperparams
+from tactile_search import ENV_ID
+
+RECIPES = [
+    (algo, env_id, map_mode)
+    for algo in ("ppo", "recurrent_ppo")
+    for env_id, by_map in yaml.safe_load((HYPERPARAMS_DIR / f"{algo}.yml").read_text()).items()
+    for map_mode in by_map
+]
+
+
+@pytest.mark.parametrize(("algo", "env_id", "map_mode"), RECIPES)
+def test_a_recipe_runs_in_its_ids_settings(algo: str, env_id: str, map_mode: str) -> None:
+    settings = load_hyperparams(algo, map_mode, env_id)["env_kwargs"]
+    for key, value in gymnasium.spec(env_id).kwargs.items():
+        assert settings[key] == (list(value) if isinstance(value, tuple) else value), key
+    assert settings["map"] == map_mode
+    yaml.safe_dump(settings)  # a run's config.yml holds them
+
+
+def test_the_identify_recipes_clone_the_identify_planner_and_claim() -> None:
+    recipe = load_hyperparams("ppo", "gpis", "tactile_search/IdentifyByTouch-v0")
+    assert recipe["env_kwargs"]["task"] == "identify"
+    assert recipe["imitation"]["teacher"] == "identify_planner"
+
+
+def test_the_search_recipe_has_no_setting_of_another_task() -> None:
+    assert "task" not in load_hyperparams("ppo", "gpis", ENV_ID)["env_kwargs"]
