@@ -13,9 +13,11 @@ fine-tuning) for one seed of a map's recipe and times each stage as it runs:
 It prints each stage's wall-clock and share of the total, and writes them as JSON beside
 the run (``--out``). ``--scale`` shrinks the recipe's episodes and PPO budget by a factor,
 for a quick look; the published figures are at ``--scale 1``. ``--imitation KEY=VALUE``
-overrides the recipe's imitation section (a variant's time)::
+overrides the recipe's imitation section (a variant's time); ``--env-id`` runs the recipe
+keyed by another registered id (its task's teacher)::
 
     python -m benchmarks.time_to_agent --map gpis --seed 0 --out /tmp/time_to_agent
+    python -m benchmarks.time_to_agent --env-id tactile_search/IdentifyByTouch-v0 --scale 0.01
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ from typing import Any
 
 from agents.command_args import parse_setting
 from agents.sb3.recipes import algorithm_class, load_hyperparams
+from tactile_search import ENV_ID, ENV_IDS
 
 #: The stages' rows, in the order a run meets them.
 TEACHER, STUDENT = "teacher", "student policy"
@@ -188,6 +191,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--map", default="gpis", dest="map_mode")
     parser.add_argument("--algo", default="ppo")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument(
+        "--env-id", choices=ENV_IDS, default=ENV_ID, help="the registered id whose recipe runs"
+    )
     parser.add_argument("--scale", type=float, default=1.0, help="share of the recipe to run")
     parser.add_argument("--out", type=Path, default=Path("runs/time_to_agent"))
     parser.add_argument(
@@ -213,12 +219,13 @@ def main(argv: list[str] | None = None) -> None:
     args = parser.parse_args(argv)
     if not 0.0 < args.scale <= 1.0:
         parser.error(f"--scale must be in (0, 1], got {args.scale}")
-    recipe = load_hyperparams(args.algo, args.map_mode)
+    recipe = load_hyperparams(args.algo, args.map_mode, args.env_id)
     overrides, timesteps = scaled_overrides(recipe, args.scale)
     overrides.update(dict(args.imitation))
     settings = TrainSettings(
         args.algo,
         args.map_mode,
+        env_id=args.env_id,
         out=args.out,
         seed=args.seed,
         timesteps=timesteps,
@@ -234,7 +241,8 @@ def main(argv: list[str] | None = None) -> None:
         run_dir = train_with_clone_stage(settings, overrides)
     total = time.perf_counter() - started
     print(
-        f"{args.algo} {args.map_mode} seed {args.seed}, scale {args.scale}: {overrides}, "
+        f"{args.env_id} {args.algo} {args.map_mode} seed {args.seed}, scale {args.scale}: "
+        f"{overrides}, "
         f"{timesteps} PPO probes"
     )
     print(table(clock.seconds, total))
