@@ -36,3 +36,11 @@ def test_the_identify_recipes_clone_the_identify_planner_and_claim() -> None:
 
 def test_the_search_recipe_has_no_setting_of_another_task() -> None:
     assert "task" not in load_hyperparams("ppo", "gpis", ENV_ID)["env_kwargs"]
+
+
+def test_the_map_recipes_clone_the_variance_mapper_without_approach_shaping() -> None:
+    for map_mode in ("gpis", "occupancy", "none"):
+        recipe = load_hyperparams("ppo", map_mode, "tactile_search/MapByTouch-v0")
+        assert recipe["env_kwargs"]["task"] == "map"
+        assert recipe["env_kwargs"]["reward_approach"] == 0.0  # no target to approach
+        assert recipe["imitation"]["teacher"] == "variance_mapper"
