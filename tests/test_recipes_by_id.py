@@ -44,3 +44,13 @@ def test_the_map_recipes_clone_the_variance_mapper_without_approach_shaping() ->
         assert recipe["env_kwargs"]["task"] == "map"
         assert recipe["env_kwargs"]["reward_approach"] == 0.0  # no target to approach
         assert recipe["imitation"]["teacher"] == "variance_mapper"
+
+
+@pytest.mark.parametrize("env_id", sorted({env_id for _, env_id, _ in RECIPES}))
+def test_every_agent_of_an_id_gets_the_same_clone_stage_budget_and_reward(env_id: str) -> None:
+    recipes = [load_hyperparams(a, m, e) for a, e, m in RECIPES if e == env_id]
+    assert len(recipes) == 4  # PPO with each map, and the recurrent no-map agent
+    for key in ("imitation", "n_timesteps", "learning_rate", "ent_coef", "n_envs", "n_steps"):
+        assert len({repr(recipe[key]) for recipe in recipes}) == 1, key
+    settings = [{k: v for k, v in r["env_kwargs"].items() if k != "map"} for r in recipes]
+    assert all(s == settings[0] for s in settings)
