@@ -114,7 +114,7 @@ impl PlannerGeometry {
     }
 
     /// Every probe of the grid, `[lane, depth, sweep]`, in row-major order (the order of
-    /// the action's index).
+    /// the action's index, [`PlannerGeometry::probe_index`]).
     pub fn probe_actions(&self) -> impl Iterator<Item = [usize; 3]> {
         let (depths, sweeps) = (self.probe_depths.len(), self.probe_yaws.len());
         (0..self.probe_lanes.len() * depths * sweeps).map(move |index| {
@@ -124,6 +124,11 @@ impl PlannerGeometry {
                 index % sweeps,
             ]
         })
+    }
+
+    /// The row-major index of probe `[lane, depth, sweep]`.
+    pub fn probe_index(&self, [lane, depth, sweep]: [usize; 3]) -> usize {
+        (lane * self.probe_depths.len() + depth) * self.probe_yaws.len() + sweep
     }
 
     /// The probe a planner falls back to when nothing is worth a probe: straight in at the

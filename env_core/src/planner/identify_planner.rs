@@ -38,9 +38,8 @@
 use super::error::PlannerError;
 use super::geometry::PlannerGeometry;
 use super::numeric::{arange, linspace};
-use super::probe_planner::{
-    Candidate, ContactRule, MapReading, PlannerObservation, Pose, ProbePlanner,
-};
+use super::probe_planner::{ContactRule, MapReading, PlannerObservation, Pose, ProbePlanner};
+use super::reachable::Candidate;
 use crate::episode::observation::proprio_index;
 use crate::episode::{EpisodeConfig, Task};
 use crate::scene::TargetShape;

@@ -27,8 +27,8 @@ use super::clearance::{FieldLayout, TurnProbe};
 use super::error::PlannerError;
 use super::geometry::PlannerGeometry;
 use super::numeric::pairwise_sum;
+use super::reachable::{turn_of, Reachable, LANE_TOL};
 pub(super) use super::reachable::{Candidate, SweptProbe};
-use super::reachable::{Reachable, LANE_TOL};
 use crate::episode::decode_proprio;
 use crate::episode::maps::{decode_image, MapMode};
 use crate::episode::{ActionMode, EpisodeConfig, Quantity, PROPRIO_LEN};
@@ -119,32 +119,32 @@ struct Statics {
 }
 
 /// For every probe of the grid (by its row-major action index), the map cells within `hit`
-/// of its finger's path ([`covers`]), in ascending order: what the settings fix of a
-/// probe's score, so that an act sums the weights of its cells instead of testing every
-/// cell against every probe.
+/// of its finger's path ([`covers`]), as bits (`words` 64-bit words per probe): what the
+/// settings fix of a probe's score, so that an act sums the weights of a probe's cells of
+/// positive weight, a few words ANDed, instead of testing every cell against every probe.
 #[derive(Debug)]
 pub(super) struct ProbePaths {
-    cells: Vec<Vec<u32>>,
-    /// The same cells as bits, `words` 64-bit words per probe: a probe's cells of positive
-    /// weight are then a few words ANDed, not a walk along its path.
     bits: Vec<u64>,
     words: usize,
+}
+
+/// The cells where a weight is positive, in [`ProbePaths`]' bits, from the first word that
+/// holds any to the last (the words outside are 0).
+pub(super) struct PositiveCells {
+    bits: Vec<u64>,
+    first: usize,
 }
 
 impl ProbePaths {
     /// The paths of `g`'s probe grid within `hit`.
     pub(super) fn new(g: &PlannerGeometry, hit: f64) -> Self {
-        let sweeps: Vec<(f64, f64)> = g
-            .probe_yaws
-            .iter()
-            .map(|&yaw| (if yaw < 0.0 { 1.0 } else { -1.0 }, yaw.abs()))
-            .collect();
-        let mut cells =
-            Vec::with_capacity(g.probe_lanes.len() * g.probe_depths.len() * sweeps.len());
+        let sweeps: Vec<(f64, f64)> = g.probe_yaws.iter().map(|&yaw| turn_of(yaw)).collect();
+        let words = g.xs.len().div_ceil(64);
+        let mut bits =
+            vec![0u64; g.probe_lanes.len() * g.probe_depths.len() * sweeps.len() * words];
+        let mut probe = 0;
         for &x in &g.probe_lanes {
             for &y in &g.probe_depths {
-                let first = cells.len();
-                cells.resize(first + sweeps.len(), Vec::new());
                 for k in 0..g.xs.len() {
                     let from = FromWrist::new(g, [x, y], [g.xs[k], g.ys[k]], hit);
                     if !from.may_be_covered(g, hit) {
@@ -152,31 +152,18 @@ impl ProbePaths {
                     }
                     for (sweep, &(side, angle)) in sweeps.iter().enumerate() {
                         if from.covered(g, side, angle, hit) {
-                            cells[first + sweep].push(k as u32);
+                            bits[(probe + sweep) * words + k / 64] |= 1 << (k % 64);
                         }
                     }
                 }
+                probe += sweeps.len();
             }
         }
-        let words = g.xs.len().div_ceil(64);
-        let mut bits = vec![0u64; cells.len() * words];
-        for (probe, path) in cells.iter().enumerate() {
-            for &k in path {
-                bits[probe * words + k as usize / 64] |= 1 << (k % 64);
-            }
-        }
-        Self { cells, bits, words }
+        Self { bits, words }
     }
 
-    /// The cells probe `action` passes.
-    fn of(&self, g: &PlannerGeometry, action: [i64; 3]) -> &[u32] {
-        let [lane, depth, sweep] = action.map(|i| i as usize);
-        &self.cells[(lane * g.probe_depths.len() + depth) * g.probe_yaws.len() + sweep]
-    }
-
-    /// The cells where `weight` is positive, as bits (the layout of a probe's bits), and
-    /// the first word that holds any (the words before it are 0).
-    fn positive(&self, weight: &[f64]) -> (Vec<u64>, usize) {
+    /// The cells where `weight` is positive.
+    pub(super) fn positive(&self, weight: &[f64]) -> PositiveCells {
         let mut bits = vec![0u64; self.words];
         for (k, _) in weight.iter().enumerate().filter(|(_, &w)| w > 0.0) {
             bits[k / 64] |= 1 << (k % 64);
@@ -190,34 +177,30 @@ impl ProbePaths {
             .rposition(|&word| word != 0)
             .map_or(first, |w| w + 1);
         bits.truncate(last);
-        (bits, first)
+        PositiveCells { bits, first }
     }
 
-    /// The weight the finger of the probe of row-major index `index` passes: [`path_weight`]'s sum of
-    /// `weight` over its cells of positive weight (`positive` from its first word on, [`ProbePaths::positive`]), in
-    /// cell order; 0 where it passes none. `covered` is scratch space.
-    fn passed(
+    /// The weight the finger of the probe of row-major index `index` passes: numpy's sum of
+    /// `weight` over its cells of positive weight (`positive`), in cell order; 0 where it
+    /// passes none. `covered` is scratch space.
+    pub(super) fn passed(
         &self,
         index: usize,
         weight: &[f64],
-        (positive, first): (&[u64], usize),
+        positive: &PositiveCells,
         covered: &mut Vec<f64>,
     ) -> f64 {
         let path = &self.bits[index * self.words..(index + 1) * self.words];
         covered.clear();
-        // Only the words that hold positive weight (`positive` ends at the last of them).
-        for (word, (&cells, &positive)) in path.iter().zip(positive).enumerate().skip(first) {
+        let words = path.iter().zip(&positive.bits).enumerate();
+        for (word, (&cells, &positive)) in words.skip(positive.first) {
             let mut both = cells & positive;
             while both != 0 {
                 covered.push(weight[word * 64 + both.trailing_zeros() as usize]);
                 both &= both - 1;
             }
         }
-        if covered.is_empty() {
-            0.0
-        } else {
-            pairwise_sum(covered)
-        }
+        pairwise_sum(covered)
     }
 }
 
@@ -516,12 +499,12 @@ impl ProbePlanner {
         if (after.x - lane_x).abs() > LANE_TOL {
             return; // stopped before reaching its lane (the hand blocked): nothing known
         }
-        let side = if after.yaw < 0.0 { 1.0 } else { -1.0 }; // a negative yaw turns to +x
+        let (side, angle) = turn_of(after.yaw);
         let done = SweptProbe {
             x: lane_x,
             y: after.y,
             side,
-            angle: after.yaw.abs(),
+            angle,
         };
         let hit = Belief::sweep_radius(g);
         let belief = self.belief.as_mut().expect("reset before use");
@@ -558,7 +541,7 @@ impl ProbePlanner {
                 if !reachable.reaches_depth(action) {
                     continue;
                 }
-                let passed = paths.passed(index, &weight, (&positive.0, positive.1), &mut covered);
+                let passed = paths.passed(index, &weight, &positive, &mut covered);
                 if passed > 0.0 {
                     let least = reachable.least_motions(action) as f64 + COST_OFFSET;
                     bounded.push((passed / least, index, action, passed));
@@ -586,8 +569,8 @@ impl ProbePlanner {
         g.opening_probe()
     }
 
-    /// Calls `visit` with each of `candidates` in order and the sum of `weight` (per cell,
-    /// ≥ 0) over the cells its finger's path passes (`paths`, [`path_weight`]).
+    /// Calls `visit` with each of `candidates` in order and the weight its finger's path
+    /// passes (`paths`, [`ProbePaths::passed`]; `weight` per cell, ≥ 0).
     pub(super) fn path_weights(
         &self,
         candidates: &[Candidate],
@@ -596,11 +579,13 @@ impl ProbePlanner {
         mut visit: impl FnMut(&Candidate, f64),
     ) {
         let g = &self.statics.geometry;
+        let positive = paths.positive(weight);
         let mut covered = Vec::new();
         for candidate in candidates {
+            let index = g.probe_index(candidate.action.map(|i| i as usize));
             visit(
                 candidate,
-                path_weight(paths.of(g, candidate.action), weight, &mut covered),
+                paths.passed(index, weight, &positive, &mut covered),
             );
         }
     }
@@ -635,19 +620,6 @@ impl ProbePlanner {
         };
         Reachable::new(g, layout, turns, &blocked, solid_cells, pose)
     }
-}
-
-/// The sum of `weight` (per cell, ≥ 0) over `path`'s cells, numpy's sum over those of
-/// positive weight in cell order: the weight a finger passing them passes (`covered` is
-/// scratch space).
-fn path_weight(path: &[u32], weight: &[f64], covered: &mut Vec<f64>) -> f64 {
-    covered.clear();
-    covered.extend(
-        path.iter()
-            .map(|&k| weight[k as usize])
-            .filter(|&w| w > 0.0),
-    );
-    pairwise_sum(covered)
 }
 
 /// A candidate jar centre seen from a probe's wrist position: what [`covers`] needs of it

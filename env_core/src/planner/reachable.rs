@@ -90,7 +90,7 @@ impl<'a> Reachable<'a> {
     /// depth, which the wrist must reach ([`Reachable::reaches_depth`]).
     pub(super) fn turn_is_safe(&mut self, [lane, depth, sweep]: [usize; 3]) -> bool {
         let g = self.g;
-        let (side, angle) = sweep_of(g, sweep);
+        let (side, angle) = turn_of(g.probe_yaws[sweep]);
         let index = usize::from(side > 0.0);
         let (turns, field, solid) = (self.turns, &self.field, &self.solid);
         let safe = *self.safe[lane * g.probe_depths.len() + depth][index]
@@ -136,16 +136,14 @@ impl<'a> Reachable<'a> {
     }
 
     /// `action` as a candidate, its motions counted, if the hand can make it.
-    pub(super) fn candidate(&mut self, action: [usize; 3]) -> Option<Candidate> {
+    fn candidate(&mut self, action: [usize; 3]) -> Option<Candidate> {
         let clear = self.reaches_depth(action) && self.turn_is_safe(action);
-        (clear && !self.is_wait(action)).then(|| self.candidate_unchecked(action))
-    }
-
-    /// `action` as a candidate, its motions counted, whether or not the hand can make it.
-    pub(super) fn candidate_unchecked(&mut self, action: [usize; 3]) -> Candidate {
+        if !clear || self.is_wait(action) {
+            return None;
+        }
         let g = self.g;
-        let (side, angle) = sweep_of(g, action[2]);
-        Candidate {
+        let (side, angle) = turn_of(g.probe_yaws[action[2]]);
+        Some(Candidate {
             action: action.map(|i| i as i64),
             probe: SweptProbe {
                 x: g.probe_lanes[action[0]],
@@ -154,7 +152,7 @@ impl<'a> Reachable<'a> {
                 angle,
             },
             motions: self.motions(action) as f64,
-        }
+        })
     }
 
     /// Every probe of the grid the hand can make, in row-major order.
@@ -175,8 +173,7 @@ impl<'a> Reachable<'a> {
     }
 }
 
-/// The side (+1: towards +x) and angle of sweep `sweep`: a negative yaw turns to +x.
-fn sweep_of(g: &PlannerGeometry, sweep: usize) -> (f64, f64) {
-    let yaw = g.probe_yaws[sweep];
+/// The side (+1: towards +x) and angle of a turn to wrist `yaw`: a negative yaw turns to +x.
+pub(super) fn turn_of(yaw: f64) -> (f64, f64) {
     (if yaw < 0.0 { 1.0 } else { -1.0 }, yaw.abs())
 }
