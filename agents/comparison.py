@@ -1,7 +1,7 @@
 """Results pooled over training seeds, and differences between agents with intervals (the
 command)::
 
-    python -m agents.comparison docs/results/episodes.csv [--reference AGENT]
+    python -m agents.comparison docs/results/episodes.csv [--reference AGENT] [--task identify]
     python -m agents.comparison docs/results/episodes.csv \\
         --overlap "ppo (gpis map)" gpis_probe_planner    # who fails where
 
@@ -13,7 +13,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from agents.evaluation.comparison import comparison_markdown, overlap_markdown
+from agents.evaluation.comparison import TASK_MEASURES, comparison_markdown, overlap_markdown
 from agents.evaluation.episodes_csv import read_episodes_csv
 
 
@@ -21,6 +21,13 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("episodes", type=Path, help="an evaluation's episodes.csv")
     parser.add_argument("--reference", help="the agent the differences are taken from")
+    parser.add_argument(
+        "--task",
+        choices=sorted(TASK_MEASURES),
+        default="search",
+        help="the task the rows are of: its measures are pooled and differenced too "
+        "(identify: wrong claims; map: the map scores)",
+    )
     parser.add_argument(
         "--overlap",
         nargs=2,
@@ -34,7 +41,7 @@ def main(argv: list[str] | None = None) -> None:
     if args.overlap:
         print(overlap_markdown(rows, *args.overlap))
     else:
-        print(comparison_markdown(rows, args.reference))
+        print(comparison_markdown(rows, args.reference, task=args.task))
 
 
 if __name__ == "__main__":

@@ -116,6 +116,18 @@ def run_name(algo: str, map_mode: str, seed: int) -> str:
     return f"{algo}_{map_mode}_seed{seed}"
 
 
+def task_folder(env_id: str) -> str:
+    """The folder the runs and results of registered id ``env_id`` keep under a budget's
+    runs and results (``docs/results/models/IdentifyByTouch-v0/``): the id's name without
+    its namespace, or none (``""``) for the default id, ``tactile_search.ENV_ID``, whose
+    runs and results came first."""
+    from tactile_search import ENV_ID, ENV_IDS
+
+    if env_id not in ENV_IDS:
+        raise ValueError(f"env_id must be one of {list(ENV_IDS)}, got {env_id!r}")
+    return "" if env_id == ENV_ID else env_id.split("/")[-1]
+
+
 def versions() -> dict[str, str]:
     """Versions of what produced a run."""
     import stable_baselines3

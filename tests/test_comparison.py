@@ -15,6 +15,7 @@ from agents.evaluation.comparison import (
     overlap,
     overlap_markdown,
     pool,
+    pooled_measure,
 )
 
 LAYOUTS = range(1_000_000, 1_000_200)
@@ -150,3 +151,50 @@ def test_the_overlap_counts_who_succeeds_where_seed_by_seed_and_layout_by_layout
     )
     with pytest.raises(ValueError, match="agents are"):
         overlap(agent_results(rows), "ppo (gpis map)", "oracle")
+
+
+def task_rows(name: str, seed: int, wrong: np.ndarray, area_mm: np.ndarray) -> list[dict]:
+    return [
+        {
+            **row,
+            "agent": f"ppo ({name} map, seed {seed})",
+            "wrong_claim": bool(w),
+            "map_score_area": float(a),
+            "map_score_mm": float(a) / 2,
+        }
+        for row, w, a in zip(rows_of("x", np.zeros(len(LAYOUTS))), wrong, area_mm, strict=True)
+    ]
+
+
+def test_a_task_measure_is_differenced_with_an_interval_like_success() -> None:
+    rng = np.random.default_rng(3)
+    n = len(LAYOUTS)
+    rows = []
+    for seed in range(3):
+        rows += task_rows("gpis", seed, rng.random(n) < 0.1, 20 + rng.normal(0, 2, n))
+        rows += task_rows("occupancy", seed, rng.random(n) < 0.4, 30 + rng.normal(0, 2, n))
+    results = agent_results(rows)
+    gpis, occupancy = results["ppo (gpis map)"], results["ppo (occupancy map)"]
+    diff, low, high = difference(gpis, occupancy, 2000, "wrong_claims")
+    assert low < diff < high < 0
+    diff, low, high = difference(gpis, occupancy, 2000, "map_score_area")
+    assert -12 < low < diff < high < -8
+    assert pooled_measure(gpis, "map_score_mm", 2000)[0] == pytest.approx(gpis.map_score_mm.mean())
+
+
+def test_the_identify_table_adds_wrong_claims_and_the_map_table_its_scores() -> None:
+    rng = np.random.default_rng(4)
+    n = len(LAYOUTS)
+    rows = task_rows("gpis", 0, rng.random(n) < 0.1, np.full(n, 20.0))
+    rows += task_rows("occupancy", 0, rng.random(n) < 0.4, np.full(n, 30.0))
+    search = comparison_markdown(rows, samples=200)
+    identify = comparison_markdown(rows, samples=200, task="identify")
+    mapping = comparison_markdown(rows, samples=200, task="map")
+    assert "wrong claims" not in search and "map distance" not in search
+    assert "wrong claims, difference" in identify and "map distance" not in identify
+    assert "| ppo (occupancy map) | -10.0 | [-10.0, -10.0] |" in mapping
+    assert "map distance at the end (mm), difference" in mapping
+    with pytest.raises(ValueError, match="task must be one of"):
+        comparison_markdown(rows, task="sorting")
+    with pytest.raises(ValueError, match="measure must be one of"):
+        agent_results(rows)["ppo (gpis map)"].measure("reward")

@@ -165,7 +165,7 @@ def test_a_shard_runs_the_episodes_of_its_seeds() -> None:
 
 
 def test_the_pipeline_gives_the_same_table_on_ray_and_locally(cluster, tmp_path) -> None:
-    from agents.grid.budgets import Budget
+    from agents.grid.budgets import Budget, Task
     from agents.grid.pipeline import run_budget
 
     tables = {}
@@ -178,10 +178,11 @@ def test_the_pipeline_gives_the_same_table_on_ray_and_locally(cluster, tmp_path)
             results=tmp_path / scheduler / "results",
             cpus_per_trial=1,
             imitation=SMALL_IMITATION,
-            sampled_too=True,
+            tasks=(Task(sampled_too=True),),
         )
-        run_dirs, tables[scheduler] = run_budget(budget, [0, 1], scheduler, progress_bar=False)
-        assert [d.name for d in run_dirs] == ["ppo_none_seed0", "ppo_none_seed1"]
+        (outcome,) = run_budget(budget, [0, 1], scheduler, progress_bar=False)
+        tables[scheduler] = outcome.table
+        assert [d.name for d in outcome.run_dirs] == ["ppo_none_seed0", "ppo_none_seed1"]
         assert (budget.results / "training" / "ppo_none_seed1" / "config.yml").is_file()
     assert tables["ray"] == tables["local"]
     # The learned agents sampling their probes, too, the same rows either way.

@@ -13,7 +13,9 @@ trained with several seeds appears once per seed (``ppo (gpis map, seed 1)``). H
   same layouts for both agents: every agent meets the same ones, so the comparison is
   paired) and, independently for each agent, its training seeds with replacement;
 - ``comparison_markdown``: both as markdown tables, and whether A beats B with
-  non-overlapping (Wilson) intervals in every training seed, seed i against seed i;
+  non-overlapping (Wilson) intervals in every training seed, seed i against seed i; with a
+  ``task``, also the task's own measures (``TASK_MEASURES``: the identify task's wrong
+  claims, the map task's scores), pooled and differenced the same way;
 - ``overlap``: where A and B succeed and fail, layout by layout: over every (training seed
   of A, training seed of B, layout), how often both succeed, A alone, B alone, neither; and
   the layouts that defeat every training seed of A (``overlap_markdown``).
@@ -30,6 +32,7 @@ from typing import Any
 
 import numpy as np
 
+from agents.evaluation.episodes_csv import ADDED_COLUMNS
 from agents.sb3.learned import learned_agent_name
 from tactile_search.benchmark.statistics import wilson_interval
 
@@ -44,6 +47,40 @@ _WITH_SEED = re.compile(
 
 
 BOOTSTRAP_SAMPLES = 10_000
+
+
+@dataclasses.dataclass(frozen=True)
+class Measure:
+    """A per-episode figure that decides a task: ``field``, the ``AgentResults`` matrix it
+    is read from; ``percent``: a rate (shown in % and points) rather than millimetres;
+    ``better``: ``"higher"`` or ``"lower"``."""
+
+    field: str
+    label: str
+    percent: bool
+    better: str
+
+
+MEASURES = {
+    "success": Measure("success", "success", percent=True, better="higher"),
+    "wrong_claims": Measure("wrong_claims", "wrong claims", percent=True, better="lower"),
+    "map_score_area": Measure(
+        "map_score_area", "map distance over the motions (mm)", percent=False, better="lower"
+    ),
+    "map_score_mm": Measure(
+        "map_score_mm", "map distance at the end (mm)", percent=False, better="lower"
+    ),
+}
+
+
+# What decides each task (the ``task`` setting; docs/DESIGN.md §4.4): the search task's
+# success; the identify task's success and wrong claims (an episode ended by a claim naming
+# another jar or none); the map task's score (no episode of it succeeds).
+TASK_MEASURES: dict[str, tuple[str, ...]] = {
+    "search": ("success",),
+    "identify": ("success", "wrong_claims"),
+    "map": ("map_score_area", "map_score_mm"),
+}
 
 
 # The bootstrap's own generator, fixed so that a table is the same every time it is made.
@@ -73,19 +110,30 @@ class AgentResults:
     displacement_mm: np.ndarray  # (seeds, layouts)
     motions: np.ndarray  # (seeds, layouts): wrist motions (the env's steps)
     actions: np.ndarray  # (seeds, layouts): the agent's actions (a probe, or a motion)
+    wrong_claims: np.ndarray  # (seeds, layouts) of 0/1: a claim naming another jar or none
+    map_score_area: np.ndarray  # (seeds, layouts): the map task's mean outline distance, mm
+    map_score_mm: np.ndarray  # (seeds, layouts): ... at the episode's end, mm
 
     def restricted(self, layouts: Sequence[int]) -> AgentResults:
         index = [self.layouts.index(seed) for seed in layouts]
-        return dataclasses.replace(
-            self,
-            layouts=tuple(layouts),
-            success=self.success[:, index],
-            tips=self.tips[:, index],
-            timeouts=self.timeouts[:, index],
-            displacement_mm=self.displacement_mm[:, index],
-            motions=self.motions[:, index],
-            actions=self.actions[:, index],
-        )
+        matrices = {
+            field.name: getattr(self, field.name)[:, index]
+            for field in dataclasses.fields(self)
+            if isinstance(getattr(self, field.name), np.ndarray)
+        }
+        return dataclasses.replace(self, layouts=tuple(layouts), **matrices)
+
+    def measure(self, name: str) -> np.ndarray:
+        """The (seeds x layouts) matrix of ``MEASURES[name]``."""
+        if name not in MEASURES:
+            raise ValueError(f"measure must be one of {sorted(MEASURES)}, got {name!r}")
+        return np.asarray(getattr(self, MEASURES[name].field))
+
+
+def added(row: dict[str, Any], column: str) -> Any:
+    """``row``'s ``column``, one of the columns added with the tasks, or the value an older
+    row has (``ADDED_COLUMNS``)."""
+    return row.get(column, ADDED_COLUMNS[column])
 
 
 def agent_results(rows: Sequence[dict[str, Any]]) -> dict[str, AgentResults]:
@@ -117,6 +165,10 @@ def agent_results(rows: Sequence[dict[str, Any]]) -> dict[str, AgentResults]:
             displacement_mm=matrix(lambda r: 1000.0 * float(r["jar_displacement"])),
             motions=matrix(lambda r: float(r["steps"])),
             actions=matrix(lambda r: float(r["actions"])),
+            # A search evaluation's rows may lack the tasks' columns (then ADDED_COLUMNS').
+            wrong_claims=matrix(lambda r: float(bool(added(r, "wrong_claim")))),
+            map_score_area=matrix(lambda r: float(added(r, "map_score_area"))),
+            map_score_mm=matrix(lambda r: float(added(r, "map_score_mm"))),
         )
     return results
 
@@ -183,22 +235,32 @@ def pool(results: AgentResults, samples: int = BOOTSTRAP_SAMPLES) -> Pooled:
 
 
 def difference(
-    a: AgentResults, b: AgentResults, samples: int = BOOTSTRAP_SAMPLES
+    a: AgentResults, b: AgentResults, samples: int = BOOTSTRAP_SAMPLES, measure: str = "success"
 ) -> tuple[float, float, float]:
-    """A's pooled success minus B's on the layouts both met, and its 95 % bootstrap interval
-    (paired over layouts, over each agent's training seeds)."""
+    """A's pooled ``measure`` (``MEASURES``) minus B's on the layouts both met, and its 95 %
+    bootstrap interval (paired over layouts, over each agent's training seeds)."""
     layouts = sorted(set(a.layouts) & set(b.layouts))
     if not layouts:
         raise ValueError(f"{a.agent} and {b.agent} share no evaluated layout")
     a, b = a.restricted(layouts), b.restricted(layouts)
     rng = np.random.default_rng(BOOTSTRAP_SEED)
-    mean_a, mean_b = _bootstrap_means([a.success, b.success], rng, samples)
+    mean_a, mean_b = _bootstrap_means([a.measure(measure), b.measure(measure)], rng, samples)
     diffs = mean_a - mean_b
     return (
-        float(a.success.mean() - b.success.mean()),
+        float(a.measure(measure).mean() - b.measure(measure).mean()),
         float(np.quantile(diffs, 0.025)),
         float(np.quantile(diffs, 0.975)),
     )
+
+
+def pooled_measure(
+    results: AgentResults, measure: str, samples: int = BOOTSTRAP_SAMPLES
+) -> tuple[float, float, float]:
+    """``results``' ``measure`` pooled over training seeds and layouts, with its 95 %
+    bootstrap interval (as ``pool``'s success)."""
+    matrix = results.measure(measure)
+    (means,) = _bootstrap_means([matrix], np.random.default_rng(BOOTSTRAP_SEED), samples)
+    return float(matrix.mean()), float(np.quantile(means, 0.025)), float(np.quantile(means, 0.975))
 
 
 def beats_in_every_seed(a: Pooled, b: Pooled) -> bool | None:
@@ -219,16 +281,76 @@ def _seed_text(seed: int | None) -> str:
     return "-" if seed is None else str(seed)
 
 
+def _measure_text(measure: Measure, value: float, difference: bool = False) -> str:
+    if measure.percent:
+        return f"{100 * value:+.1f} pts" if difference else _percent(value)
+    return f"{value:+.1f}" if difference else f"{value:.1f}"
+
+
+def _interval_text(measure: Measure, low: float, high: float, difference: bool = False) -> str:
+    if measure.percent and difference:
+        return f"[{100 * low:+.1f}, {100 * high:+.1f}]"
+    if measure.percent:
+        return f"[{_percent(low)}, {_percent(high)}]"
+    return f"[{low:+.1f}, {high:+.1f}]" if difference else f"[{low:.1f}, {high:.1f}]"
+
+
+def measure_markdown(
+    results: dict[str, AgentResults], reference: str, name: str, samples: int = BOOTSTRAP_SAMPLES
+) -> str:
+    """The measure ``name`` (``MEASURES``) pooled per agent with its interval, and the
+    differences of ``reference`` against every other agent, as markdown."""
+    measure = MEASURES[name]
+    lines = [
+        f"| agent | {measure.label}, pooled ({measure.better} is better) | 95 % CI (bootstrap) |",
+        "|---|---|---|",
+    ]
+    for agent, r in results.items():
+        value, low, high = pooled_measure(r, name, samples)
+        lines.append(
+            f"| {agent} | {_measure_text(measure, value)} | {_interval_text(measure, low, high)} |"
+        )
+    lines += [
+        "",
+        f"| {reference} minus | {measure.label}, difference | 95 % CI (bootstrap over layouts "
+        "and training seeds) |",
+        "|---|---|---|",
+    ]
+    for agent, other in results.items():
+        if agent != reference:
+            diff, low, high = difference(results[reference], other, samples, name)
+            lines.append(
+                f"| {agent} | {_measure_text(measure, diff, True)} "
+                f"| {_interval_text(measure, low, high, True)} |"
+            )
+    return "\n".join(lines) + "\n"
+
+
 def comparison_markdown(
-    rows: Sequence[dict[str, Any]], reference: str | None = None, samples: int = BOOTSTRAP_SAMPLES
+    rows: Sequence[dict[str, Any]],
+    reference: str | None = None,
+    samples: int = BOOTSTRAP_SAMPLES,
+    task: str = "search",
 ) -> str:
     """The pooled table, the per-seed table and the differences of ``reference`` (default:
-    the first agent) against every other agent, as markdown."""
+    the first agent) against every other agent, as markdown; then, for ``task``'s measures
+    other than success (``TASK_MEASURES``), each pooled and differenced (``measure_markdown``)."""
+    if task not in TASK_MEASURES:
+        raise ValueError(f"task must be one of {sorted(TASK_MEASURES)}, got {task!r}")
     results = agent_results(rows)
-    pooled = {agent: pool(r, samples) for agent, r in results.items()}
     reference = reference or next(iter(results))
     if reference not in results:
         raise ValueError(f"reference must be one of {sorted(results)}, got {reference!r}")
+    others = [
+        measure_markdown(results, reference, name, samples)
+        for name in TASK_MEASURES[task]
+        if name != "success"
+    ]
+    return _success_markdown(results, reference, samples) + "".join(f"\n{text}" for text in others)
+
+
+def _success_markdown(results: dict[str, AgentResults], reference: str, samples: int) -> str:
+    pooled = {agent: pool(r, samples) for agent, r in results.items()}
     lines = [
         "| agent | training seeds | episodes | success, pooled | 95 % CI (bootstrap) "
         "| spread across seeds | episodes with a tip | episodes timed out "

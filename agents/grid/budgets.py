@@ -4,8 +4,12 @@ trial), where its runs and results go, and the held-out layouts it evaluates on.
 ``demo`` (``make demo``) trains the GPIS-map and the no-map PPO agents briefly, each
 warm-started from its published model, and evaluates them on 50 validation layouts;
 ``full`` (``make results``) trains every learned agent with training seeds 0, 1 and 2 by its
-recipe (the PPO agents: the planner cloned, then ``n_timesteps`` of PPO) into
-``docs/results/models/`` and evaluates on 500 test layouts.
+recipe (the PPO agents: the task's planner cloned, then ``n_timesteps`` of PPO) into
+``docs/results/models/`` and evaluates on 500 test layouts, on every task (``Task``): the
+search task (``CupboardSearch-v0``, v0's results, ``docs/results/``), identify and map by
+touch, each trained on its own id (``docs/results/models/<id's name>/``, results in
+``docs/results/<id's name>/``), and the dense tiers played by the agents of the default
+tier (how they generalise).
 """
 
 from __future__ import annotations
@@ -14,8 +18,56 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from agents.run_dir import PUBLISHED_RUNS
+import gymnasium
+
+from agents.run_dir import PUBLISHED_RUNS, task_folder
 from agents.sb3.learned import learned_agent_name
+from agents.scripted import scripted_agents_for
+from tactile_search import ENV_ID
+
+# The search task's scripted baselines, in the order of v0's tables.
+SCRIPTED = ("random", "gpis_probe_planner", "oracle")
+
+
+@dataclass(frozen=True)
+class Task:
+    """A registered id a budget evaluates on (``env_id``), and whose agents play it: its own,
+    trained on it by the budget, or (``trained_on``) those the budget trains on another id
+    (a dense tier played by its default tier's agents). ``sampled_too``: its learned agents
+    evaluated a second time sampling their probes (``<results>/sampled/``), beside the main
+    table's recipe's way (their mode: what SB3's ``evaluate_policy`` and rl-zoo3 do by
+    default)."""
+
+    env_id: str = ENV_ID
+    trained_on: str | None = None
+    sampled_too: bool = False
+
+    def __post_init__(self) -> None:
+        for env_id in (self.env_id, self.trained_on or self.env_id):
+            task_folder(env_id)  # a registered id, or a clear error
+
+    @property
+    def agents_from(self) -> str:
+        """The id whose trained agents play this task."""
+        return self.trained_on or self.env_id
+
+    @property
+    def task(self) -> str:
+        """The ``task`` setting of ``env_id`` (``search``, ``identify`` or ``map``)."""
+        return str(gymnasium.spec(self.env_id).kwargs.get("task", "search"))
+
+    def reference_agent(self) -> str:
+        """The agent every other is compared with here: the GPIS PPO agent, named as the
+        evaluation names it on this id (with the id's name, ``agents.evaluation.evaluation``)."""
+        folder = task_folder(self.env_id)
+        return f"{REFERENCE_AGENT} [{folder}]" if folder else REFERENCE_AGENT
+
+    def scripted(self) -> tuple[str, ...]:
+        """The scripted agents evaluated beside the learned ones: the task's
+        (``agents.scripted.scripted_agents_for``), the search task's in v0's order."""
+        if self.task == "search":
+            return SCRIPTED
+        return tuple(scripted_agents_for(self.task))
 
 
 @dataclass(frozen=True)
@@ -43,10 +95,21 @@ class Budget:
     # Overrides of the PPO recipes' imitation sections (the clone stage before PPO); a run
     # that warm-starts clones nothing.
     imitation: dict[str, Any] | None = None
-    # The learned agents evaluated a second time sampling their probes (``<results>/sampled/``),
-    # beside the main table's recipe's way (their mode: what SB3's ``evaluate_policy`` and
-    # rl-zoo3 do by default).
-    sampled_too: bool = False
+    # The ids it trains on and evaluates on; the first is the default id's.
+    tasks: tuple[Task, ...] = (Task(),)
+
+    def __post_init__(self) -> None:
+        trained = {task.env_id for task in self.tasks if task.trained_on is None}
+        for task in self.tasks:
+            if task.agents_from not in trained:
+                raise ValueError(
+                    f"{task.env_id} is played by the agents of {task.agents_from}, which this "
+                    f"budget does not train (it trains on {sorted(trained)})"
+                )
+
+    def trained_ids(self) -> list[str]:
+        """The ids the budget trains its agents on, in the order of ``tasks``."""
+        return [task.env_id for task in self.tasks if task.trained_on is None]
 
 
 # The documented budget's models (model.zip beside config.yml, one folder per run).
@@ -78,12 +141,18 @@ BUDGETS = {
         cpus_per_trial=1,
         split="test",
         seeds=(0, 1, 2),
-        sampled_too=True,
+        tasks=(
+            Task(sampled_too=True),
+            Task("tactile_search/IdentifyByTouch-v0"),
+            Task("tactile_search/MapByTouch-v0"),
+            Task("tactile_search/CupboardSearchDense-v0", trained_on=ENV_ID),
+            Task(
+                "tactile_search/IdentifyByTouchDense-v0",
+                trained_on="tactile_search/IdentifyByTouch-v0",
+            ),
+        ),
     ),
 }
-
-
-SCRIPTED = ("random", "gpis_probe_planner", "oracle")
 
 
 # The agent every other is compared with.

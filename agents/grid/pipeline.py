@@ -10,7 +10,9 @@ Two budgets::
 published model (``docs/results/models/``, when there is one), and evaluates them on 50
 validation layouts; ``full`` trains every learned agent (PPO with each map mode and the
 recurrent no-map agent) with training seeds 0, 1 and 2 at its recipe's ``n_timesteps``,
-into ``docs/results/models/`` (the published models), and evaluates on 500 test layouts.
+into ``docs/results/models/`` (the published models), and evaluates on 500 test layouts, on
+each of its tasks (``agents.grid.budgets.Task``: the search task, identify and map by touch,
+the dense tiers), each task's section of ``docs/RESULTS.md`` written between its markers.
 
 The grid (agents x training seeds, then the evaluation) runs on Ray when it is installed
 (the ``scale`` extra; ``--scheduler ray``): training trials and the evaluation run as Ray
@@ -37,14 +39,20 @@ from agents.evaluation.comparison import comparison_markdown
 from agents.evaluation.episodes_csv import read_episodes_csv
 from agents.evaluation.evaluation import evaluate
 from agents.evaluation.report import markdown_table
-from agents.grid.budgets import BUDGETS, REFERENCE_AGENT, SCRIPTED, Budget
-from agents.grid.results_doc import results_markdown, write_results
+from agents.grid.budgets import BUDGETS, Budget
+from agents.grid.results_doc import (
+    TaskResults,
+    results_markdown,
+    task_results_markdown,
+    write_results,
+)
 from agents.grid.trials import TrainingTrial, train_trial
-from agents.run_dir import code_version, copy_record, model_path, run_name
+from agents.run_dir import code_version, copy_record, model_path, run_name, task_folder
 from agents.sb3.recipes import load_hyperparams
+from tactile_search import ENV_ID
 
 SCHEDULERS = ("ray", "local")
-# Where a budget with ``sampled_too`` keeps the learned agents' rows sampling their probes.
+# Where a task with ``sampled_too`` keeps the learned agents' rows sampling their probes.
 SAMPLED_DIR = "sampled"
 
 
@@ -54,7 +62,8 @@ def default_scheduler() -> str:
 
 
 def trials(budget: Budget, seeds: list[int]) -> list[TrainingTrial]:
-    """The budget's training trials: every learned agent with every training seed."""
+    """The budget's training trials: every learned agent with every training seed, on every
+    id it trains on (``Budget.trained_ids``)."""
     code = code_version()
     return [
         TrainingTrial(
@@ -65,20 +74,30 @@ def trials(budget: Budget, seeds: list[int]) -> list[TrainingTrial]:
             timesteps=budget.timesteps,
             cpus=budget.cpus_per_trial,
             code=code,
-            init_from=warm_start_source(budget, algo, map_mode, seed),
-            imitation=budget.imitation if "imitation" in load_hyperparams(algo, map_mode) else None,
+            init_from=warm_start_source(budget, algo, map_mode, seed, env_id),
+            imitation=(
+                budget.imitation
+                if "imitation" in load_hyperparams(algo, map_mode, env_id)
+                else None
+            ),
+            env_id=env_id,
         )
+        for env_id in budget.trained_ids()
         for algo, map_mode in budget.agents
         for seed in seeds
     ]
 
 
-def warm_start_source(budget: Budget, algo: str, map_mode: str, seed: int) -> str | None:
+def warm_start_source(
+    budget: Budget, algo: str, map_mode: str, seed: int, env_id: str = ENV_ID
+) -> str | None:
     """The published run a trial of ``budget`` warm-starts from, if the budget warm-starts and
     that run is published (else the trial trains from scratch)."""
     if budget.warm_start_from is None:
         return None
-    published = model_path(budget.warm_start_from / run_name(algo, map_mode, seed))
+    published = model_path(
+        budget.warm_start_from / task_folder(env_id) / run_name(algo, map_mode, seed)
+    )
     return str(published.resolve()) if published.is_file() else None
 
 
@@ -94,18 +113,20 @@ def run_budget(
     scheduler: str,
     address: str | None = None,
     progress_bar: bool = True,
-) -> tuple[list[Path], str]:
-    """Trains every agent of ``budget`` with every seed in ``seeds``, evaluates them with the
-    scripted baselines and keeps each run's record beside the results; returns the run
-    directories and the results table. ``scheduler``: ``ray`` (Ray tasks, on
-    the cluster at ``address`` or ``RAY_ADDRESS``, else on this machine) or ``local`` (one
-    after another in this process)."""
+) -> list[TaskResults]:
+    """Trains every agent of ``budget`` with every seed in ``seeds`` on every id it trains
+    on, evaluates them on each of its tasks with the task's scripted baselines and keeps each
+    run's record beside the task's results; returns each task's results, in the order of
+    ``budget.tasks``. ``scheduler``: ``ray`` (Ray tasks, on the cluster at ``address`` or
+    ``RAY_ADDRESS``, else on this machine) or ``local`` (one after another in this
+    process)."""
     if scheduler not in SCHEDULERS:
         raise ValueError(f"scheduler must be one of {SCHEDULERS}, got {scheduler!r}")
     if address is not None and scheduler != "ray":
         raise ValueError(f"an address is for the ray scheduler, got scheduler {scheduler!r}")
-    for algo, map_mode in budget.agents:
-        load_hyperparams(algo, map_mode)  # fail before hours of training, not after
+    for env_id in budget.trained_ids():
+        for algo, map_mode in budget.agents:
+            load_hyperparams(algo, map_mode, env_id)  # fail before hours of training, not after
     grid = trials(budget, list(seeds))
     if scheduler == "ray":
         import ray
@@ -121,26 +142,38 @@ def run_budget(
     else:
         run_dirs = train_all(grid, progress_bar)
         evaluation = evaluate
-    summaries = evaluation(
-        [*map(str, run_dirs), *SCRIPTED],
-        out=budget.results,
-        episodes=budget.episodes,
-        split=budget.split,
-        final=budget.split == "test",
-    )
-    if budget.sampled_too:
-        evaluation(
-            list(map(str, run_dirs)),
-            out=budget.results / SAMPLED_DIR,
+    outcomes = []
+    for task in budget.tasks:
+        task_runs = [
+            run_dir
+            for trial, run_dir in zip(grid, run_dirs, strict=True)
+            if trial.env_id == task.agents_from
+        ]
+        results = budget.results / task_folder(task.env_id)
+        summaries = evaluation(
+            [*map(str, task_runs), *task.scripted()],
+            out=results,
             episodes=budget.episodes,
             split=budget.split,
             final=budget.split == "test",
-            gifs=False,
-            actions="sample",
+            env_id=task.env_id,
         )
-    for run_dir in run_dirs:  # the record of each run beside the results (models stay out)
-        copy_record(run_dir, budget.results / "training" / run_dir.name)
-    return run_dirs, markdown_table(summaries)
+        if task.sampled_too:
+            evaluation(
+                list(map(str, task_runs)),
+                out=results / SAMPLED_DIR,
+                episodes=budget.episodes,
+                split=budget.split,
+                final=budget.split == "test",
+                gifs=False,
+                actions="sample",
+                env_id=task.env_id,
+            )
+        if task.trained_on is None:  # the record of each run beside its results (models stay out)
+            for run_dir in task_runs:
+                copy_record(run_dir, results / "training" / run_dir.name)
+        outcomes.append(TaskResults(task, task_runs, results, markdown_table(summaries)))
+    return outcomes
 
 
 def run(
@@ -156,26 +189,35 @@ def run(
         raise ValueError(f"budget must be one of {sorted(BUDGETS)}, got {budget_name!r}")
     budget = BUDGETS[budget_name]
     started = time.perf_counter()
-    run_dirs, table = run_budget(
+    outcomes = run_budget(
         budget,
         budget.seeds if seeds is None else seeds,
         scheduler or default_scheduler(),
         address,
         progress_bar,
     )
-    rows, _ = read_episodes_csv(budget.results / "episodes.csv")
-    comparison = comparison_markdown(rows, reference=REFERENCE_AGENT)
-    sampled = ""
-    if budget.sampled_too:
-        sampled_rows, _ = read_episodes_csv(budget.results / SAMPLED_DIR / "episodes.csv")
-        sampled = comparison_markdown(sampled_rows, reference=REFERENCE_AGENT)
+    path = budget.results.parent / "RESULTS.md"
+    for outcome in outcomes:
+        task = outcome.task
+        rows, _ = read_episodes_csv(outcome.results / "episodes.csv")
+        comparison = comparison_markdown(rows, reference=task.reference_agent(), task=task.task)
+        sampled = ""
+        if task.sampled_too:
+            sampled_rows, _ = read_episodes_csv(outcome.results / SAMPLED_DIR / "episodes.csv")
+            sampled = comparison_markdown(sampled_rows, reference=task.reference_agent())
+        if budget_name == "full":
+            if task.env_id == ENV_ID:
+                generated = results_markdown(
+                    budget_name, budget, outcome.run_dirs, outcome.table, comparison, sampled
+                )
+            else:
+                generated = task_results_markdown(budget, outcome, comparison)
+            write_results(path, generated, section=task_folder(task.env_id))
+        print(f"{task.env_id}:")
+        print(outcome.table)
+        print(comparison)
+        print(sampled)
     if budget_name == "full":
-        path = budget.results.parent / "RESULTS.md"
-        generated = results_markdown(budget_name, budget, run_dirs, table, comparison, sampled)
-        write_results(path, generated)
         print(f"wrote {path}")
-    print(table)
-    print(comparison)
-    print(sampled)
     print(f"pipeline took {(time.perf_counter() - started) / 60:.1f} min; see {budget.results}/")
     return budget.results

@@ -96,9 +96,9 @@ def train_on_ray(
 
 @ray.remote(num_cpus=1)
 def _evaluation_task(
-    spec: str, files: dict[str, bytes] | None, seeds: list[int], actions: str
+    spec: str, files: dict[str, bytes] | None, seeds: list[int], actions: str, env_id: str | None
 ) -> list[dict]:
-    return evaluate_shard(spec, files, seeds, actions)
+    return evaluate_shard(spec, files, seeds, actions, env_id)
 
 
 def evaluate_on_ray(
@@ -112,6 +112,7 @@ def evaluate_on_ray(
     max_failures: int = DEFAULT_MAX_FAILURES,
     gifs: bool = True,
     actions: str = "recipe",
+    env_id: str | None = None,
 ) -> list[Summary]:
     """``agents.evaluation.evaluation.evaluate`` with the episodes run as Ray tasks: each
     agent's missing (layout) episodes in slices of ``shard_episodes``, every row appended to
@@ -119,11 +120,11 @@ def evaluate_on_ray(
     GIFs from those rows (reusing them all), as it does after a run of its own. A task that
     fails is retried ``max_failures`` times; if some still fail, ``GridError`` names them
     after the others have finished (their rows are kept: run again to finish). ``actions``:
-    how learned agents act (``evaluate``'s)."""
+    how learned agents act, ``env_id`` the task and tier they play (``evaluate``'s)."""
     out = Path(out)
     seeds = evaluation_seeds(split, episodes, final)
     made, names, fingerprints, done = prepare_evaluation(
-        agent_specs, out, seeds, resume=True, actions=actions
+        agent_specs, out, seeds, resume=True, actions=actions, env_id=env_id
     )
     map_modes = [env_kwargs["map"] for _, env_kwargs in made]
     csv_path = out / "episodes.csv"
@@ -133,7 +134,7 @@ def evaluate_on_ray(
         todo = [seed for seed in seeds if (name, seed) not in done]
         files = None if spec in SCRIPTED_AGENTS else ray.put(evaluated_files(Path(spec)))
         for shard in shards(todo, shard_episodes):
-            pending[task.remote(spec, files, shard, actions)] = (
+            pending[task.remote(spec, files, shard, actions, env_id)] = (
                 name,
                 map_mode,
                 fingerprints[spec],
@@ -167,4 +168,5 @@ def evaluate_on_ray(
         gifs=gifs,
         resume=True,
         actions=actions,
+        env_id=env_id,
     )

@@ -28,10 +28,12 @@ from agents.run_dir import (
     model_path,
     read_run_config,
     run_name,
+    task_folder,
     write_evaluated_files,
 )
 from agents.sb3.recipes import run_recipe
 from agents.sb3.training import TrainSettings
+from tactile_search import ENV_ID
 
 
 @dataclass(frozen=True)
@@ -44,7 +46,9 @@ class TrainingTrial:
     threads and its environment batch's threads. ``n_envs``: ``None`` for the recipe's.
     ``init_from``: a run directory or model file to warm-start from (``TrainSettings``'), or
     None. ``imitation``: overrides of the recipe's imitation section (the clone stage's,
-    ``train_with_clone_stage``); ``from_scratch``: skip that stage (``TrainSettings``')."""
+    ``train_with_clone_stage``); ``from_scratch``: skip that stage (``TrainSettings``').
+    ``env_id``: the registered id it trains on (its recipe's key); its run directory is
+    ``runs/<task_folder(env_id)>/<run_name>``."""
 
     algo: str
     map_mode: str
@@ -59,20 +63,25 @@ class TrainingTrial:
     init_from: str | None = None
     imitation: dict[str, Any] | None = field(default=None, hash=False)
     from_scratch: bool = False
+    env_id: str = ENV_ID
 
     def __post_init__(self) -> None:
         if not Path(self.runs).is_absolute():
             raise ValueError(f"runs must be an absolute path, got {self.runs!r}")
         if isinstance(self.cpus, bool) or not isinstance(self.cpus, int) or self.cpus < 1:
             raise ValueError(f"cpus must be an int >= 1, got {self.cpus!r}")
+        task_folder(self.env_id)  # a registered id, or a clear error
 
     @property
     def run_dir(self) -> Path:
-        return Path(self.runs) / run_name(self.algo, self.map_mode, self.seed)
+        return Path(self.runs) / self.name
 
     @property
     def name(self) -> str:
-        return self.run_dir.name
+        """The run directory's path under ``runs``: unique in a grid of several ids."""
+        run = run_name(self.algo, self.map_mode, self.seed)
+        folder = task_folder(self.env_id)
+        return f"{folder}/{run}" if folder else run
 
 
 def changed_recipe_keys(trial: TrainingTrial) -> list[str]:
@@ -87,7 +96,9 @@ def changed_recipe_keys(trial: TrainingTrial) -> list[str]:
     except ValueError:
         return [CONFIG_FILE]
     recorded = config["hyperparams"]
-    recipe = run_recipe(trial.algo, trial.map_mode, timesteps=trial.timesteps, n_envs=trial.n_envs)
+    recipe = run_recipe(
+        trial.algo, trial.map_mode, trial.env_id, timesteps=trial.timesteps, n_envs=trial.n_envs
+    )
     keys = (recipe.keys() | recorded.keys()) - {"imitation"}
     return sorted(key for key in keys if recipe.get(key) != recorded.get(key))
 
@@ -130,7 +141,8 @@ def train_trial(trial: TrainingTrial, progress_bar: bool = False) -> Path:
     settings = TrainSettings(
         trial.algo,
         trial.map_mode,
-        out=Path(trial.runs),
+        env_id=trial.env_id,
+        out=run_dir.parent,
         seed=trial.seed,
         timesteps=trial.timesteps,
         n_envs=trial.n_envs,
@@ -146,13 +158,19 @@ def train_trial(trial: TrainingTrial, progress_bar: bool = False) -> Path:
 
 
 def evaluate_shard(
-    spec: str, files: dict[str, bytes] | None, seeds: list[int], actions: str = "recipe"
+    spec: str,
+    files: dict[str, bytes] | None,
+    seeds: list[int],
+    actions: str = "recipe",
+    env_id: str | None = None,
 ) -> list[dict[str, Any]]:
     """One episode per seed of the agent ``spec`` (a scripted name, or a run whose ``files``
     are given), as ``agents.rollout.evaluate_agent`` summarises them; a learned agent acts
-    as ``actions`` says (``agents.evaluation.agent_specs.ACTIONS``). Uses one torch thread,
-    as ``agents.evaluation.evaluation.evaluate`` does."""
+    as ``actions`` says (``agents.evaluation.agent_specs.ACTIONS``), in the task and tier
+    of ``env_id`` when given (``agents.evaluation.evaluation.evaluate``'s). Uses one torch
+    thread, as ``evaluate`` does."""
     from agents.evaluation.agent_specs import make_agent
+    from agents.evaluation.evaluation import env_id_settings
     from agents.rollout import evaluate_agent
 
     if files is None:
@@ -165,6 +183,7 @@ def evaluate_shard(
             write_evaluated_files(Path(tmp), files)
             # The agent holds the model in memory from here on.
             agent, env_kwargs = make_agent(tmp, actions)
+    env_kwargs = {**env_kwargs, **env_id_settings(env_id)}
     # One episode at a time on one thread: the task declares one CPU.
     return evaluate_agent(agent, seeds, num_envs=1, threads=1, **env_kwargs)
 
