@@ -173,7 +173,7 @@ def agent_results(rows: Sequence[dict[str, Any]]) -> dict[str, AgentResults]:
     return results
 
 
-def _bootstrap_means(
+def bootstrap_means(
     matrices: Sequence[np.ndarray], rng: np.random.Generator, samples: int
 ) -> list[np.ndarray]:
     """For each (seeds x layouts) matrix, ``samples`` bootstrap means: the layouts drawn with
@@ -211,7 +211,7 @@ class Pooled:
 def pool(results: AgentResults, samples: int = BOOTSTRAP_SAMPLES) -> Pooled:
     """``results`` pooled over training seeds and layouts (see the module docstring)."""
     rng = np.random.default_rng(BOOTSTRAP_SEED)
-    (means,) = _bootstrap_means([results.success], rng, samples)
+    (means,) = bootstrap_means([results.success], rng, samples)
     n_layouts = len(results.layouts)
     per_seed = []
     for seed, row in zip(results.training_seeds, results.success, strict=True):
@@ -244,7 +244,7 @@ def difference(
         raise ValueError(f"{a.agent} and {b.agent} share no evaluated layout")
     a, b = a.restricted(layouts), b.restricted(layouts)
     rng = np.random.default_rng(BOOTSTRAP_SEED)
-    mean_a, mean_b = _bootstrap_means([a.measure(measure), b.measure(measure)], rng, samples)
+    mean_a, mean_b = bootstrap_means([a.measure(measure), b.measure(measure)], rng, samples)
     diffs = mean_a - mean_b
     return (
         float(a.measure(measure).mean() - b.measure(measure).mean()),
@@ -259,7 +259,7 @@ def pooled_measure(
     """``results``' ``measure`` pooled over training seeds and layouts, with its 95 %
     bootstrap interval (as ``pool``'s success)."""
     matrix = results.measure(measure)
-    (means,) = _bootstrap_means([matrix], np.random.default_rng(BOOTSTRAP_SEED), samples)
+    (means,) = bootstrap_means([matrix], np.random.default_rng(BOOTSTRAP_SEED), samples)
     return float(matrix.mean()), float(np.quantile(means, 0.025)), float(np.quantile(means, 0.975))
 
 

@@ -36,6 +36,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from agents.evaluation.comparison import comparison_markdown
+from agents.evaluation.curves import plot_curves
 from agents.evaluation.episodes_csv import read_episodes_csv
 from agents.evaluation.evaluation import evaluate
 from agents.evaluation.report import markdown_table
@@ -201,6 +202,7 @@ def run(
         task = outcome.task
         rows, _ = read_episodes_csv(outcome.results / "episodes.csv")
         comparison = comparison_markdown(rows, reference=task.reference_agent(), task=task.task)
+        plot_curves(outcome.results / "curves.png", rows, task.task)
         sampled = ""
         if task.sampled_too:
             sampled_rows, _ = read_episodes_csv(outcome.results / SAMPLED_DIR / "episodes.csv")

@@ -122,6 +122,11 @@ def results_markdown(
             if sampled
             else []
         ),
+        "Success against the wrist motions spent, every agent with its 95 % interval "
+        "(`agents/evaluation/curves.py`):",
+        "",
+        "![curves](results/curves.png)",
+        "",
         "![success](results/success.png)",
         "",
         "![steps](results/steps.png)",
@@ -187,6 +192,11 @@ def task_results_markdown(budget: Budget, outcome: TaskResults, comparison: str)
         f'"{task.reference_agent()}"`):',
         "",
         comparison,
+        "Success against the wrist motions spent (or the map task's scores), every agent with "
+        "its 95 % interval:",
+        "",
+        f"![curves](results/{folder}/curves.png)",
+        "",
         f"![success](results/{folder}/success.png)",
         "",
         f"![steps](results/{folder}/steps.png)",

@@ -1,0 +1,101 @@
+"""A task's results at a glance: each agent's success against the wrist motions it spent, with
+intervals (``docs/results/<task>/curves.png``, written by the pipeline for every task).
+
+- A task with success (search, identify): for each budget of k motions, the share of
+  episodes that succeeded within k motions, pooled over training seeds and layouts, with a
+  95 % bootstrap band (``agents.evaluation.comparison.bootstrap_means``: the layouts and each
+  agent's training seeds resampled, the same draws at every k). The curve's right end is the
+  agent's success; how fast it rises is how soon it finds the target.
+- The map task (no episode succeeds: each runs its budget of motions): each agent's outline
+  distance at the end and averaged over the motions (``MEASURES``' map scores), pooled with
+  95 % bootstrap intervals, one row per agent.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from agents.evaluation.comparison import (
+    BOOTSTRAP_SEED,
+    MEASURES,
+    TASK_MEASURES,
+    AgentResults,
+    agent_results,
+    bootstrap_means,
+    pooled_measure,
+)
+
+# Bootstrap samples per point of a curve: a band's edge moves by well under a point between
+# two draws of this many.
+CURVE_SAMPLES = 2_000
+
+# Points per curve: motion budgets evenly spaced from 0 to the longest episode.
+CURVE_POINTS = 60
+
+
+def success_within(results: AgentResults, budget: float) -> np.ndarray:
+    """The (seeds x layouts) 0/1 matrix of the episodes that succeeded within ``budget``
+    wrist motions."""
+    return results.success * (results.motions <= budget)
+
+
+def success_curve(
+    results: AgentResults, budgets: np.ndarray, samples: int = CURVE_SAMPLES
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For each motion budget, the pooled share of episodes succeeded within it and its 95 %
+    bootstrap interval (the same resampled layouts and seeds at every budget)."""
+    mean, low, high = [], [], []
+    for budget in budgets:
+        matrix = success_within(results, float(budget))
+        (means,) = bootstrap_means([matrix], np.random.default_rng(BOOTSTRAP_SEED), samples)
+        mean.append(matrix.mean())
+        low.append(np.quantile(means, 0.025))
+        high.append(np.quantile(means, 0.975))
+    return np.array(mean), np.array(low), np.array(high)
+
+
+def plot_curves(
+    path: Path, rows: Sequence[dict[str, Any]], task: str, samples: int = CURVE_SAMPLES
+) -> None:
+    """Writes ``task``'s figure of the evaluation ``rows`` (``episodes.csv``'s) to ``path``."""
+    if task not in TASK_MEASURES:
+        raise ValueError(f"task must be one of {sorted(TASK_MEASURES)}, got {task!r}")
+    results = agent_results(rows)
+    if not results:
+        raise ValueError("plot_curves needs the rows of at least one agent, got none")
+    import matplotlib.pyplot as plt
+
+    if "success" in TASK_MEASURES[task]:
+        fig, ax = plt.subplots(figsize=(9.0, 4.2))
+        longest = max(float(r.motions.max()) for r in results.values())
+        budgets = np.linspace(0.0, longest, CURVE_POINTS)
+        for index, (agent, r) in enumerate(results.items()):
+            mean, low, high = success_curve(r, budgets, samples)
+            colour = f"C{index % 10}"
+            ax.plot(budgets, mean, color=colour, label=agent)
+            ax.fill_between(budgets, low, high, color=colour, alpha=0.2, linewidth=0)
+        ax.set_xlabel("wrist motions")
+        ax.set_ylabel("episodes succeeded within (95 % CI)")
+        ax.set_ylim(0, 1.02)
+        ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5), frameon=False)
+    else:
+        names = TASK_MEASURES[task]
+        fig, axes = plt.subplots(
+            1, len(names), figsize=(4.2 * len(names), 0.6 + 0.45 * len(results))
+        )
+        y = np.arange(len(results))
+        for ax, name in zip(np.atleast_1d(axes), names, strict=True):
+            pooled = [pooled_measure(r, name, samples) for r in results.values()]
+            values = np.array([p[0] for p in pooled])
+            errors = np.array([[p[0] - p[1] for p in pooled], [p[2] - p[0] for p in pooled]])
+            ax.errorbar(values, y, xerr=errors, fmt="o", capsize=4)
+            ax.set_yticks(y, list(results) if ax is np.atleast_1d(axes)[0] else [])
+            ax.set_xlabel(f"{MEASURES[name].label}, {MEASURES[name].better} is better")
+            ax.invert_yaxis()
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
