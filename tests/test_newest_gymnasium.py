@@ -1,7 +1,8 @@
 """Both Gymnasium lines: ``make test`` runs on the version Ray pins; here the package alone,
 installed with the newest gymnasium the registry has, passes ``check_env`` in every map and
-action mode and the vector equivalence test (``test_vector_equivalence.py``, run against the
-installed package)."""
+action mode, the vector equivalence test (``test_vector_equivalence.py``) and Gymnasium's
+time-limit conventions (``test_gymnasium_conventions.py``: the env reads ``make``'s arguments,
+gymnasium's own code), each run against the installed package."""
 
 from __future__ import annotations
 
@@ -25,7 +26,7 @@ print("gymnasium", gym.__version__, "check_env ok")
 """
 
 
-def test_the_package_with_the_newest_gymnasium_passes_check_env_and_vector_equivalence(
+def test_the_package_with_the_newest_gymnasium_passes_check_env_equivalence_and_conventions(
     tmp_path: Path,
 ) -> None:
     python = fresh_install(tmp_path, "--upgrade", "gymnasium", "pytest")
@@ -34,10 +35,11 @@ def test_the_package_with_the_newest_gymnasium_passes_check_env_and_vector_equiv
     )
     assert checked.returncode == 0, checked.stdout + checked.stderr
     print(checked.stdout.strip())  # the version tested, in pytest's -s / -rA output
-    # The equivalence test from a directory of its own, so it imports the installed wheel.
+    # The tests from a directory of their own, so they import the installed wheel.
     tests = tmp_path / "equivalence"
     tests.mkdir()
-    shutil.copy(ROOT / "tests" / "test_vector_equivalence.py", tests)
+    for name in ("test_vector_equivalence.py", "test_gymnasium_conventions.py"):
+        shutil.copy(ROOT / "tests" / name, tests)
     equivalence = subprocess.run(
         [str(python), "-m", "pytest", "-q", "-p", "no:cacheprovider", str(tests)],
         cwd=tests, capture_output=True, text=True, timeout=1200,

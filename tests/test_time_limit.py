@@ -1,8 +1,8 @@
 """The time limit has one source: the episode's ``max_steps``, reported by the core as
 ``truncated``; what ``gymnasium.make(..., max_steps=N)`` says is what truncates, and the made
 env's ``spec.max_episode_steps`` declares it, with no second, different limit: ``make`` of an
-id adds no ``TimeLimit``, ``make`` of a made env's spec adds one at the same step, and
-``make_vec`` re-makes a vector env from its spec."""
+id adds no ``TimeLimit``. (Gymnasium's conventions for every id, ``make`` of a made env's
+spec, ``make_vec`` of a spec and ``max_episode_steps``: ``test_gymnasium_conventions.py``.)"""
 
 from __future__ import annotations
 
@@ -102,28 +102,6 @@ def test_time_aware_observation_reads_the_declared_limit() -> None:
     assert truncated and float(np.asarray(obs["time"]).item()) == 1.0
 
 
-@pytest.mark.parametrize("max_steps", [None, 7])
-def test_make_vec_remakes_a_vector_env_from_its_own_spec(max_steps: int | None) -> None:
-    """gymnasium re-makes a vector env from its spec, passing the declared limit as
-    ``max_episode_steps``: the same env, the same episodes."""
-    settings = {} if max_steps is None else {"max_steps": max_steps}
-    vector = gym.make_vec(
-        ENV_ID, num_envs=2, vectorization_mode="vector_entry_point", map="none", threads=1,
-        **settings,
-    )  # fmt: skip
-    again = gym.make_vec(vector.spec)
-    assert isinstance(again.unwrapped, CupboardSearchVectorEnv)
-    assert again.num_envs == vector.num_envs == 2
-    assert again.unwrapped.config == vector.unwrapped.config
-    assert again.spec.max_episode_steps == vector.spec.max_episode_steps
-    first, _ = vector.reset(seed=3)
-    second, _ = again.reset(seed=3)
-    for key in first:
-        np.testing.assert_array_equal(first[key], second[key])
-    vector.close()
-    again.close()
-
-
 def test_max_episode_steps_names_max_steps_and_must_agree_with_it() -> None:
     vector = CupboardSearchVectorEnv(num_envs=1, threads=1, map="none", max_episode_steps=5)
     assert vector.config.max_steps == 5
@@ -139,23 +117,3 @@ def test_max_episode_steps_names_max_steps_and_must_agree_with_it() -> None:
         CupboardSearchVectorEnv(num_envs=1, map="none", max_episode_steps="5")
     with pytest.raises(ValueError, match="max_episode_steps must be at least 1"):
         CupboardSearchVectorEnv(num_envs=1, map="none", max_episode_steps=0)
-
-
-def test_gym_make_from_a_made_envs_spec_wraps_the_envs_own_limit() -> None:
-    """The made env's spec declares its limit, so ``gym.make(env.spec)`` wraps gymnasium's
-    ``TimeLimit``: at the env's own ``max_steps``, not a second, different limit."""
-    env = gym.make(ENV_ID, map="none", max_steps=4)
-    again = gym.make(env.spec)
-    limits = []
-    wrapper = again
-    while isinstance(wrapper, gym.Wrapper):
-        if isinstance(wrapper, gym.wrappers.TimeLimit):
-            limits.append(wrapper._max_episode_steps)
-        wrapper = wrapper.env
-    assert limits == [4] == [again.unwrapped.config.max_steps]
-    again.reset(seed=0)
-    for step in range(1, 5):
-        _, _, terminated, truncated, _ = again.step(np.zeros(3))
-        assert not terminated and truncated == (step == 4)
-    env.close()
-    again.close()

@@ -49,7 +49,9 @@ def _ramp(values: np.ndarray, anchors: np.ndarray) -> np.ndarray:
     position = np.clip(values, 0.0, 1.0) * (len(anchors) - 1)
     low = np.minimum(position.astype(int), len(anchors) - 2)
     t = (position - low)[..., None]
-    return ((1 - t) * anchors[low] + t * anchors[low + 1]).round().astype(np.uint8)
+    # Typed here: numpy types an array indexed by an array as Any.
+    colours: np.ndarray = ((1 - t) * anchors[low] + t * anchors[low + 1]).round().astype(np.uint8)
+    return colours
 
 
 class _Panel:
@@ -72,7 +74,9 @@ class _Panel:
         d = end - start
         t = ((self.x - start[0]) * d[0] + (self.y - start[1]) * d[1]) / max(d @ d, 1e-12)
         t = np.clip(t, 0.0, 1.0)
-        return np.hypot(self.x - start[0] - t * d[0], self.y - start[1] - t * d[1]) <= half_width
+        distance = np.hypot(self.x - start[0] - t * d[0], self.y - start[1] - t * d[1])
+        near: np.ndarray = distance <= half_width  # typed: numpy's comparison is Any
+        return near
 
     def grid(self, values: np.ndarray) -> np.ndarray:
         """A (H, W) map grid over the same bounds (row 0 at y0), nearest cell per pixel."""
@@ -80,7 +84,8 @@ class _Panel:
         h, w = values.shape
         i = np.clip(((self.y - y0) / (y1 - y0) * h).astype(int), 0, h - 1)
         j = np.clip(((self.x - x0) / (x1 - x0) * w).astype(int), 0, w - 1)
-        return values[i, j]
+        cells: np.ndarray = values[i, j]  # typed: numpy types array indexing as Any
+        return cells
 
 
 def _edges(mask: np.ndarray) -> np.ndarray:
@@ -90,7 +95,8 @@ def _edges(mask: np.ndarray) -> np.ndarray:
     inner[:-1] &= mask[1:]
     inner[:, 1:] &= mask[:, :-1]
     inner[:, :-1] &= mask[:, 1:]
-    return mask & ~inner
+    edges: np.ndarray = mask & ~inner  # typed: numpy's operators on arrays are Any
+    return edges
 
 
 def _scene_panel(state: dict[str, Any]) -> np.ndarray:

@@ -10,7 +10,7 @@ from gymnasium import spaces
 from gymnasium.error import ResetNeeded
 from gymnasium.utils import EzPickle
 
-from tactile_search import seed_ranges
+from tactile_search import _core, seed_ranges
 from tactile_search.envs.config import (
     CupboardSearchConfig,
     config_for,
@@ -24,7 +24,7 @@ from tactile_search.render import episode_frame
 
 def observation_space(config: CupboardSearchConfig, proprio_len: int) -> spaces.Dict:
     """The Dict observation space of one environment."""
-    entries: dict[str, spaces.Space] = {}
+    entries: dict[str, spaces.Space[Any]] = {}
     # The image's channel count is the map mode's, from the core's table (0: no image).
     channels = sum(1 for mode, _ in MAP_CHANNELS if mode == config.map)
     if channels:
@@ -34,7 +34,7 @@ def observation_space(config: CupboardSearchConfig, proprio_len: int) -> spaces.
     return spaces.Dict(entries)
 
 
-def action_space(batch: Any) -> spaces.Space:
+def action_space(batch: _core.EpisodeBatch) -> spaces.Space[Any]:
     """The action space of one environment of ``batch`` (a ``_core.EpisodeBatch``): the
     ``wrist`` mode's ``Box(-1, 1, (3,))``, or the ``probe`` mode's ``MultiDiscrete`` over the
     core's (lanes, depths, sweeps) counts; where the task claims (``identify``), each with
@@ -45,7 +45,13 @@ def action_space(batch: Any) -> spaces.Space:
     return spaces.MultiDiscrete(np.asarray(nvec, dtype=np.int64))
 
 
-class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
+#: An observation: the ``map`` image (absent for ``map="none"``) and ``proprio``, by key.
+Observation = dict[str, np.ndarray]
+
+
+class CupboardSearchEnv(
+    DeclaredTimeLimit, EpisodeReads, gym.Env[Observation, np.ndarray], EzPickle
+):
     """Mechanical search by touch: reach into a cupboard and touch a hidden spice jar.
 
     ## Description
@@ -128,8 +134,10 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
     - Truncation: the episode's own time limit, ``max_steps`` steps (default 200): the core
       reports it (``truncated``), so what ``gymnasium.make(..., max_steps=N)`` says is what
       truncates, in the vector envs too, and the made env's ``spec.max_episode_steps`` is
-      N (no ``TimeLimit`` wrapper: one limit). ``make``'s own ``max_episode_steps=`` would
-      add gymnasium's ``TimeLimit`` over it: pass ``max_steps`` instead. Stepping on after
+      N (the ids register no limit, so no ``TimeLimit`` wrapper). Gymnasium's
+      ``make(..., max_episode_steps=N)`` is the same limit: the env takes N as its
+      ``max_steps`` and ``make`` wraps ``TimeLimit`` at N (``envs/time_limit.py``); a
+      ``max_steps`` beside it that differs is a ``ValueError``. Stepping on after
       truncation is allowed (``time_left`` goes below 0, floored at -1).
 
     ## Arguments
@@ -168,7 +176,8 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
       ``i`` as ``reset(seed=seed + i)``, each with its own generator; before, one batch
       generator drew every layout) and its info carries the ``_key`` masks; the single
       env's episodes are unchanged. The info's ``truncated`` key is gone (it repeated the
-      step's own ``truncated``); ``spec.max_episode_steps`` is the env's ``max_steps``.
+      step's own ``truncated``); ``spec.max_episode_steps`` is the env's ``max_steps``, and
+      ``make``'s ``max_episode_steps`` sets it.
     """
 
     # Declared as gymnasium's Env declares it.
@@ -199,7 +208,7 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
-    ) -> tuple[dict, dict]:
+    ) -> tuple[Observation, dict[str, Any]]:
         super().reset(seed=seed)
         # A given seed is the layout's seed (so reset(seed=s) here equals episode i of a
         # vector env reset with seed[i] = s); otherwise draw one from the env's generator.
@@ -209,7 +218,7 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
         self._steps_taken = 0
         return self._batch.observation(0), self._batch.info(0)
 
-    def step(self, action: Any) -> tuple[dict, float, bool, bool, dict]:
+    def step(self, action: Any) -> tuple[Observation, float, bool, bool, dict[str, Any]]:
         if self._episode_seed is None:
             raise ResetNeeded("CupboardSearchEnv: call reset() before step()")
         # One call: the core checks the action once (its shape; finite motions, integer
@@ -223,6 +232,12 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
         self._steps_taken += 1
         return result
 
+    def _remake_with_max_steps(self, max_steps: int) -> None:
+        """Builds the env again with the arguments it was made with (EzPickle keeps them for
+        pickling), ``max_steps`` over them: ``gymnasium.make``'s ``max_episode_steps``
+        (``DeclaredTimeLimit``)."""
+        CupboardSearchEnv.__init__(self, **{**self._ezpickle_kwargs, "max_steps": max_steps})
+
     def _grow_actions(self) -> None:
         """Doubles the storage of the episode's actions."""
         rows = max(2 * len(self._actions), 64)
@@ -231,7 +246,7 @@ class CupboardSearchEnv(DeclaredTimeLimit, EpisodeReads, gym.Env, EzPickle):
         self._actions = grown
 
     def __getstate__(self) -> dict[str, Any]:
-        state = EzPickle.__getstate__(self)
+        state: dict[str, Any] = EzPickle.__getstate__(self)
         state["np_random"] = self._np_random
         state["episode_seed"] = self._episode_seed
         state["actions"] = self._actions[: self._steps_taken].copy()

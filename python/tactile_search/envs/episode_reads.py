@@ -13,18 +13,20 @@ from typing import Any
 
 import numpy as np
 
+from tactile_search import _core
+
 
 class EpisodeReads:
     """Mixin: the read-only methods of episode ``_episode_index`` of ``_batch`` (a
     ``_core.EpisodeBatch``)."""
 
-    _batch: Any
+    _batch: _core.EpisodeBatch
     _episode_index: int
 
     def oracle_action(self) -> np.ndarray:
         """The action of a scripted searcher that knows the target (the upper bound); a
         wrist motion, so ``ValueError`` in the ``probe`` action mode."""
-        return self._batch.oracle_actions()[self._episode_index].astype(np.float32)
+        return np.asarray(self._batch.oracle_actions()[self._episode_index], dtype=np.float32)
 
     def last_motions(self) -> np.ndarray:
         """The wrist motions the last step made, ``(k, 3)`` ``wrist``-mode actions (clipped to

@@ -156,7 +156,9 @@ class CupboardSearchSb3VecEnv(VecEnv):
         self._check_open()
         self._actions = actions  # checked once, by the core, in step_wait
 
-    def step_wait(self) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, list[dict]]:
+    def step_wait(
+        self,
+    ) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, list[dict[str, Any]]]:
         self._check_open()
         observation, rewards, dones, infos = self._batch.step_autoreset(
             self._actions, self._next_seeds(self.num_envs)
@@ -189,7 +191,7 @@ class CupboardSearchSb3VecEnv(VecEnv):
             )
         setattr(self, attr_name, value)
 
-    def env_method(self, method_name: str, *args: Any, indices: Any = None, **kw: Any) -> list:
+    def env_method(self, method_name: str, *args: Any, indices: Any = None, **kw: Any) -> list[Any]:
         return [
             getattr(self._sub_envs[i], method_name)(*args, **kw) for i in self._indices(indices)
         ]

@@ -12,12 +12,14 @@ from __future__ import annotations
 
 from typing import Any
 
+from tactile_search import _core
 from tactile_search.envs.episode_reads import EpisodeReads
 
 
 class SubEnv(EpisodeReads):
     """Episode ``index`` of ``vector`` (see the module docstring)."""
 
+    # ``vector``: a ``CupboardSearchVectorEnv`` (not imported: it makes its SubEnvs).
     def __init__(self, vector: Any, index: int) -> None:
         if not 0 <= index < vector.num_envs:
             raise ValueError(f"index must be from 0 to {vector.num_envs - 1}, got {index}")
@@ -25,8 +27,9 @@ class SubEnv(EpisodeReads):
         self.index = index
 
     @property
-    def _batch(self) -> Any:
-        return self._vector._batch
+    def _batch(self) -> _core.EpisodeBatch:  # type: ignore[override]  # the vector's, read-only
+        batch: _core.EpisodeBatch = self._vector._batch
+        return batch
 
     @property
     def _episode_index(self) -> int:  # type: ignore[override]
@@ -51,4 +54,4 @@ class SubEnv(EpisodeReads):
     @property
     def np_random_seed(self) -> int:
         """The seed of this episode's generator: its layout seed when reset with one."""
-        return self._vector.np_random_seed[self.index]
+        return int(self._vector.np_random_seed[self.index])

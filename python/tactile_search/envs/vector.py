@@ -46,7 +46,12 @@ from tactile_search.envs.config import (
     config_for,
     with_settings_signature,
 )
-from tactile_search.envs.cupboard_search import CupboardSearchEnv, action_space, observation_space
+from tactile_search.envs.cupboard_search import (
+    CupboardSearchEnv,
+    Observation,
+    action_space,
+    observation_space,
+)
 from tactile_search.envs.episode_log import EpisodeLog
 from tactile_search.envs.sub_env import SubEnv
 from tactile_search.envs.time_limit import DeclaredTimeLimit, max_steps_of
@@ -92,7 +97,7 @@ def mask_keys(keys: tuple[str, ...]) -> tuple[str, ...]:
     return tuple(f"_{key}" for key in keys)
 
 
-class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
+class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv[Observation, np.ndarray, np.ndarray]):
     """``num_envs`` cupboard-search episodes stepped on all cores (see ``CupboardSearchEnv``
     and the module docstring).
 
@@ -212,7 +217,7 @@ class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
         *,
         seed: int | Sequence[int | None] | None = None,
         options: dict[str, Any] | None = None,
-    ) -> tuple[dict, dict]:
+    ) -> tuple[Observation, dict[str, Any]]:
         self._check_open()
         seeds = self._reset_seeds(seed)
         mask = self._reset_mask(options)
@@ -260,10 +265,12 @@ class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
             )
         if not mask.any():
             raise ValueError("options['reset_mask'] must have at least one True value")
-        return mask.copy()
+        return np.array(mask, dtype=np.bool_)  # a copy
 
     # ---- step ----------------------------------------------------------------------------
-    def step(self, actions: Any) -> tuple[dict, np.ndarray, np.ndarray, np.ndarray, dict]:
+    def step(
+        self, actions: Any
+    ) -> tuple[Observation, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
         self._check_steppable(actions)
         resets = None
         generator_states = []
@@ -342,7 +349,7 @@ class CupboardSearchVectorEnv(DeclaredTimeLimit, VectorEnv):
     def _same_step_resets(
         self, rewards: np.ndarray, terminated: np.ndarray, truncated: np.ndarray,
         step_info: dict[str, np.ndarray],
-    ) -> tuple[dict, np.ndarray, np.ndarray, np.ndarray, dict]:  # fmt: skip
+    ) -> tuple[Observation, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:  # fmt: skip
         """The ``SAME_STEP`` mode's end of a step where episodes ended: their last
         observation and info into ``final_obs`` / ``final_info``, then their resets."""
         ended = np.flatnonzero(self._needs_reset).tolist()

@@ -93,7 +93,7 @@ class MapExtractor(BaseFeaturesExtractor):
 
     def __init__(
         self,
-        observation_space: gym.Space,
+        observation_space: gym.Space[Any],
         proprio_features: int = 0,
         map_key: str = "map",
         channels_last: bool = True,
@@ -180,7 +180,9 @@ class ResidualBlock(nn.Module):
         self.conv1 = nn.Conv2d(channels, channels, kernel_size=3, padding=1)
 
     def forward(self, x: th.Tensor) -> th.Tensor:
-        return x + self.conv1(th.relu(self.conv0(th.relu(x))))
+        # Typed here: torch types a module's call as Any.
+        residual: th.Tensor = self.conv1(th.relu(self.conv0(th.relu(x))))
+        return x + residual
 
 
 class ImpalaStage(nn.Sequential):
@@ -258,7 +260,7 @@ class ImpalaMapExtractor(MapExtractor):
 
     def __init__(
         self,
-        observation_space: gym.Space,
+        observation_space: gym.Space[Any],
         channels: Sequence[int] = (16, 32, 32),
         map_features: int = 256,
         res_blocks: int = 2,
@@ -355,7 +357,7 @@ class SpatialSoftmaxMapExtractor(MapExtractor):
 
     def __init__(
         self,
-        observation_space: gym.Space,
+        observation_space: gym.Space[Any],
         channels: Sequence[int] = (16, 32, 32),
         strides: Sequence[int] = (1, 2, 1),
         learn_temperature: bool = True,

@@ -78,11 +78,14 @@ class JointCategoricalDistribution(MultiCategoricalDistribution):
         its multi-categorical base types as a list of categoricals)."""
         return cast(Categorical, self.distribution)
 
+    # Typed here: torch.distributions leaves its methods unannotated (Any).
     def log_prob(self, actions: torch.Tensor) -> torch.Tensor:
-        return self.joint.log_prob(self.joint_index(actions))
+        log_prob: torch.Tensor = self.joint.log_prob(self.joint_index(actions))
+        return log_prob
 
     def entropy(self) -> torch.Tensor:
-        return self.joint.entropy()
+        entropy: torch.Tensor = self.joint.entropy()
+        return entropy
 
     def sample(self) -> torch.Tensor:
         return self.actions_of(self.joint.sample())

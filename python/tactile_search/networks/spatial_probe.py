@@ -73,7 +73,7 @@ class SpatialProbeExtractor(MapExtractor):
 
     def __init__(
         self,
-        observation_space: gym.Space,
+        observation_space: gym.Space[Any],
         probe_points: Sequence[Sequence[float]] = (),
         channels: Sequence[int] = (8, 16),
         res_blocks: int = 1,
@@ -168,7 +168,7 @@ class SpatialProbeHead(nn.Module):
         probe_part = nn.functional.linear(per_probe, weight[:, : self.point_features])
         context_part = nn.functional.linear(context, weight[:, self.point_features :], first.bias)
         hidden = th.relu(probe_part + context_part[:, None, :])
-        logits = last(hidden).reshape(batch, -1)
+        logits: th.Tensor = last(hidden).reshape(batch, -1)  # typed: a module's call is Any
         if self.claim is None:
             return logits
         return th.cat([logits, self.claim(context)], dim=1)
