@@ -9,7 +9,7 @@ export VIRTUAL_ENV := $(abspath $(VENV))
 export PATH := $(abspath $(VENV))/bin:$(PATH)
 
 .DEFAULT_GOAL := help
-.PHONY: help demo results test test-env build build-dev bench performance fuzz lint rust-lint python-lint format clean paper stubs
+.PHONY: help demo results test test-env build build-dev bench performance fuzz lint rust-lint python-lint format clean paper stubs wheel wheel-check docs
 
 help: ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  %-10s %s\n", $$1, $$2}'
@@ -46,7 +46,27 @@ test: ## cargo fmt/clippy, ruff, cargo test and pytest (Ray tests on a local clu
 	$(PY) -m pytest -q -n auto --dist loadfile --durations=15
 
 test-env: ## the venv with every extra the tests need, and the release build, one step at a time
-	$(MAKE) --no-print-directory -j1 build-dev $(VENV)/.extra-scale
+	$(MAKE) --no-print-directory -j1 build-dev $(VENV)/.extra-scale $(VENV)/.extra-docs $(VENV)/.extra-datasets
+
+# The wheel anyone installs: abi3 (one wheel for CPython 3.10 and later), linked by zig
+# against glibc 2.28 (the manylinux_2_28 tag; a plain build here takes this machine's newer
+# glibc's tag), from the working tree, in its own target dir: it neither waits for the
+# extension's build nor undoes it. (Not `build --sdist`, which builds from the unpacked
+# sdist: its files' fixed timestamps would let cargo reuse a stale core in that dir.)
+wheel: $(VENV)/.extra-release ## the abi3 wheel (manylinux_2_28, linked by zig) and the sdist, into dist/
+	rm -f dist/tactile_search-*
+	CARGO_TARGET_DIR=$(abspath target/wheel) $(VENV)/bin/maturin build --release --zig --compatibility manylinux_2_28 --out dist
+	$(VENV)/bin/maturin sdist --out dist
+	$(VENV)/bin/auditwheel show dist/tactile_search-*.whl
+
+wheel-check: wheel ## install the wheel into a fresh venv of each Python here, no Rust on PATH: check_env and the benchmark on every id
+	$(PY) scripts/wheel_install_check.py
+
+# Every warning is an error (-W) and every reference is checked (-n): a broken link fails it.
+# SPHINXOPTS="-D repository_url=URL" links repository files to their web view (docs/site/conf.py).
+SPHINXOPTS ?=
+docs: $(VENV)/.extra-docs build ## the documentation site (docs/site/: Sphinx, MyST, furo) into docs/_build/html
+	$(PY) -m sphinx -W --keep-going -n -q $(SPHINXOPTS) -c docs/site docs docs/_build/html
 
 paper: build ## regenerate docs/paper/ figures and docs/PAPER.md's table (experiments/paper)
 	$(PY) -m experiments.paper --out docs/paper

@@ -9,7 +9,10 @@ its last clone learned from) and ``rounds/round<k>/`` (the student before each D
 a run directory each); a PPO run that fine-tunes such a clone keeps it in ``imitation/``
 (a run directory of its own, with the teacher's demonstrations it cloned).
 Every file is replaced atomically (a temporary file renamed over it), so a kill leaves the old
-file or the new one. ``model_digest`` hashes what a ``model.zip`` holds, not its bytes.
+file or the new one. ``model_digest`` hashes what a ``model.zip`` holds, not its bytes (the
+package's ``tactile_search.benchmark.model_digest``, which the benchmark checks a model
+against before loading it); a published run also holds ``model.digest`` (that digest) and
+``MODEL_CARD.md`` (``agents.grid.model_card``).
 
 Other modules name a run's files through the functions here (``config_path``,
 ``model_path``, ``checkpoint_dir``...), never by typing them (``tests/test_run_dir.py``).
@@ -19,14 +22,11 @@ from __future__ import annotations
 
 import contextlib
 import csv
-import hashlib
-import json
 import os
 import platform
 import re
 import shutil
 import subprocess
-import zipfile
 from collections.abc import Iterator
 from pathlib import Path
 from typing import IO, Any
@@ -35,6 +35,8 @@ import gymnasium as gym
 import yaml
 
 import tactile_search
+from tactile_search.benchmark.model_digest import digest_path
+from tactile_search.benchmark.model_digest import model_digest as model_digest  # re-exported
 from tactile_search.benchmark.policies import RUN_CONFIG_FILE
 from tactile_search.envs.config import MAP_MODES
 
@@ -47,6 +49,8 @@ ALGORITHMS = ("ppo", "recurrent_ppo")
 CONFIG_FILE = RUN_CONFIG_FILE
 MODEL_FILE = "model.zip"
 PROGRESS_FILE = "progress.csv"
+#: A published run's card (``agents.grid.model_card``).
+MODEL_CARD_FILE = "MODEL_CARD.md"
 
 
 CHECKPOINT_DIR = "checkpoints"
@@ -84,6 +88,17 @@ def config_path(run_dir: Path) -> Path:
 def model_path(run_dir: Path) -> Path:
     """The run's ``model.zip`` (there once the run finished)."""
     return Path(run_dir) / MODEL_FILE
+
+
+def model_card_path(run_dir: Path) -> Path:
+    """The run's ``MODEL_CARD.md`` (a published run's, ``agents.grid.model_card``)."""
+    return Path(run_dir) / MODEL_CARD_FILE
+
+
+def model_digest_path(run_dir: Path) -> Path:
+    """Where the digest of the run's ``model.zip`` is recorded, which the benchmark checks
+    the model against before loading it (``tactile_search.benchmark.model_digest``)."""
+    return digest_path(model_path(run_dir))
 
 
 def progress_path(run_dir: Path) -> Path:
@@ -381,33 +396,3 @@ def copy_record(run_dir: Path, into: Path) -> None:
     into.mkdir(parents=True, exist_ok=True)
     for name in RECORD_FILES:
         shutil.copyfile(Path(run_dir) / name, into / name)
-
-
-def model_digest(path: Path) -> bytes:
-    """A hash of what a ``model.zip`` holds, not of the archive's bytes, so that the same
-    model trained twice (one run after another, or as a Ray trial) gets the same digest.
-
-    It covers every member (the weights, optimizer state, versions) and the ``data`` member's
-    plain settings; not what differs between identical trainings: the archive's write times,
-    ``data``'s ``start_time`` and its pickled objects (classes and spaces, whose pickles are
-    not byte-stable; the spaces are checked on load, the classes follow from the algorithm)."""
-    sha = hashlib.sha256()
-    try:
-        with zipfile.ZipFile(path) as archive:
-            for name in sorted(archive.namelist()):
-                content = archive.read(name)
-                if name == "data":
-                    data = json.loads(content)
-                    plain = {
-                        key: value
-                        for key, value in data.items()
-                        if key != "start_time"
-                        and not (isinstance(value, dict) and ":serialized:" in value)
-                    }
-                    content = json.dumps(plain, sort_keys=True).encode()
-                sha.update(name.encode() + b"\0" + content + b"\0")
-    except (zipfile.BadZipFile, OSError, EOFError, ValueError) as err:
-        raise ValueError(
-            f"{path} is not a readable model archive (truncated or corrupt?): {err}"
-        ) from err
-    return sha.digest()

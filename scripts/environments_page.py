@@ -4,7 +4,8 @@ Episode End, Arguments, Version History), every fact read from the core: the reg
 (``_core.registered_envs()``: the id's task, settings, description, episode end and
 history), the spaces of an env made with those settings, the info table's reward terms and
 the settings table. ``tests/test_environments_page.py`` checks the committed page is this
-script's output.
+script's output. The documentation site's environment pages are made of the same sections
+(``docs/site/env_pages.py`` imports them).
 
     python scripts/environments_page.py            # rewrite docs/ENVIRONMENTS.md
     python scripts/environments_page.py --check    # exit 1 if it is out of date
@@ -14,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -25,6 +27,10 @@ from tactile_search.envs.observation import STEP_INFO, map_channel_table, propri
 
 PAGE = Path(__file__).resolve().parents[1] / "docs" / "ENVIRONMENTS.md"
 DEFAULTS: dict[str, Any] = {s["key"]: s["default"] for s in SETTINGS}
+INTRO = (
+    "Every registered id, in the shape of Gymnasium's environment docs. Each id is the same "
+    "environment class with the settings of its task and tier."
+)
 #: What each entry of an action is, by action mode (the claim entry only where the task
 #: claims: the made env's action space says how many entries there are).
 ENTRIES = {
@@ -59,14 +65,19 @@ def reward_rows(settings: dict[str, Any]) -> list[list[str]]:
     return rows
 
 
-def section(env: dict[str, Any]) -> str:
+def section(env: dict[str, Any], level: int = 2) -> str:
+    """The section of one registered id (an entry of ``_core.registered_envs()``): its
+    heading at ``level`` (``##`` by default), Gymnasium's headings one level below. Its
+    links point at the page's ``Observation layout`` and ``Settings`` sections
+    (``observation_layout`` and ``settings_section``)."""
+    title, sub = "#" * level, "#" * (level + 1)
     settings = {**DEFAULTS, **env["settings"]}
     made = {mode: gym.make(env["id"], action_mode=mode).unwrapped for mode in ("wrist", "probe")}
     batch = made["wrist"]._batch
     facts = {**settings, "claim_threshold": batch.claim_threshold}
     presets = ", ".join(f"{k}={v!r}" for k, v in env["settings"].items())
     lines = [
-        f"## `{env['id']}`",
+        f"{title} `{env['id']}`",
         "",
         env["summary"][0].upper() + env["summary"][1:] + ".",
         "",
@@ -75,13 +86,13 @@ def section(env: dict[str, Any]) -> str:
         *([f"# its settings: {presets}"] if presets else []),
         "```",
         "",
-        "### Description",
+        f"{sub} Description",
         "",
         env["description"],
         f"A cupboard {settings['cupboard_width']} m wide and {settings['cupboard_depth']} m "
         f"deep holds {settings['jar_count'][0]} to {settings['jar_count'][1]} jars.",
         "",
-        "### Action Space",
+        f"{sub} Action Space",
         "",
     ]
     rows = []
@@ -90,7 +101,7 @@ def section(env: dict[str, Any]) -> str:
         entries = "; ".join(e.format(**facts) for e in ENTRIES[mode][:n])
         rows.append([f"``{mode!r}``", f"``{env_made.action_space}``", entries])
     lines += [markdown_table(["action_mode", "space", "entries"], rows), ""]
-    lines += ["### Observation Space", ""]
+    lines += [f"{sub} Observation Space", ""]
     rows = []
     for map_mode in ("gpis", "occupancy", "none"):
         space = gym.make(env["id"], map=map_mode).observation_space
@@ -100,23 +111,23 @@ def section(env: dict[str, Any]) -> str:
         "",
         "The map's channels and the proprio entries: [Observation layout](#observation-layout).",
         "",
-        "### Rewards",
+        f"{sub} Rewards",
         "",
         "The reward is the sum of these terms, each in ``info`` under its key:",
         "",
         markdown_table(["info key", "term", "weight setting", "weight"], reward_rows(settings)),
         "",
-        "### Starting State",
+        f"{sub} Starting State",
         "",
         "A new layout drawn from the reset's seed, the depth camera's first look (a noisy "
         "horizontal slice at mid-jar height), the map started from it, and the hand at "
         f"hand_start {tuple(settings['hand_start'])} outside the opening.",
         "",
-        "### Episode End",
+        f"{sub} Episode End",
         "",
         env["episode_end"] + f" max_steps = {settings['max_steps']}.",
         "",
-        "### Arguments",
+        f"{sub} Arguments",
         "",
     ]
     if env["settings"]:
@@ -129,10 +140,17 @@ def section(env: dict[str, Any]) -> str:
         ]
     else:
         lines += ["The defaults, every one in [Settings](#settings)."]
-    lines += ["", "### Version History", "", env["history"], ""]
+    lines += ["", f"{sub} Version History", "", env["history"], ""]
     for env_made in made.values():
         env_made.close()
     return "\n".join(lines)
+
+
+def id_list(envs: list[dict[str, Any]], link: Callable[[str], str] | None = None) -> list[str]:
+    """A list item per registered id: the id, linked to ``link(id)`` (by default its
+    section's anchor on this page), and its summary."""
+    target = link or (lambda env_id: f"#{anchor(env_id)}")
+    return [f"- [`{env['id']}`]({target(env['id'])}): {env['summary']}" for env in envs]
 
 
 def render() -> str:
@@ -143,27 +161,47 @@ def render() -> str:
         "<!-- Written by `python scripts/environments_page.py` from the core's tables; do not "
         "edit by hand. -->",
         "",
-        "Every registered id, in the shape of Gymnasium's environment docs. Each id is the same "
-        "environment class with the settings of its task and tier.",
+        INTRO,
         "",
-        *[f"- [`{env['id']}`](#{anchor(env['id'])}): {env['summary']}" for env in envs],
-        "",
-    ]
-    layout = [
-        "## Observation layout",
-        "",
-        "The same in every id. ``map`` channels:",
-        "",
-        map_channel_table(),
-        "",
-        "``proprio`` entries, each in [-1, 1]:",
-        "",
-        proprio_table(),
+        *id_list(envs),
         "",
     ]
-    settings = ["## Settings", "", "Every keyword argument, its type, default and range:", ""]
-    settings += [arguments_table(), ""]
-    return "\n".join([*header, *(section(env) for env in envs), *layout, *settings])
+    sections = [section(env) for env in envs]
+    return "\n".join([*header, *sections, observation_layout(), settings_section()])
+
+
+def observation_layout(level: int = 2) -> str:
+    """The ``Observation layout`` section, the same in every id: the map channels and the
+    proprio entries (the core's observation layout)."""
+    return "\n".join(
+        [
+            "#" * level + " Observation layout",
+            "",
+            "The same in every id. ``map`` channels:",
+            "",
+            map_channel_table(),
+            "",
+            "``proprio`` entries, each in [-1, 1]:",
+            "",
+            proprio_table(),
+            "",
+        ]
+    )
+
+
+def settings_section(level: int = 2) -> str:
+    """The ``Settings`` section: every keyword argument with its type, default and range
+    (the core's settings table)."""
+    return "\n".join(
+        [
+            "#" * level + " Settings",
+            "",
+            "Every keyword argument, its type, default and range:",
+            "",
+            arguments_table(),
+            "",
+        ]
+    )
 
 
 def anchor(env_id: str) -> str:

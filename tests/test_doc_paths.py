@@ -25,7 +25,8 @@ named bare are mostly written at run time). URLs, absolute paths and templates (
 - paths under ``results/``, ``runs/`` and ``target/`` are written at run time (by the
   benchmarks, training and cargo), and so are the JSON files of ``docs/performance/`` (the
   benchmarks' output the performance page is rendered from; ``docs/PERFORMANCE.md`` names
-  the file of a benchmark not run yet): they are allowed by rule.
+  the file of a benchmark not run yet), and the documentation site's HTML under
+  ``docs/_build/`` (``make docs``): they are allowed by rule.
 """
 
 from __future__ import annotations
@@ -52,7 +53,7 @@ TOP_LEVEL = (
 EXTENSIONS = (".rs", ".py", ".pyi", ".md", ".yml", ".yaml", ".toml", ".json", ".png", ".gif",
               ".csv", ".npz", ".zip")  # fmt: skip
 #: Written at run time, so not (or not yet) in the repository: allowed by rule.
-GENERATED = ("results/", "runs/", "target/", "docs/performance/")
+GENERATED = ("results/", "runs/", "target/", "docs/performance/", "docs/_build/")
 #: Folders neither scanned nor indexed: by name anywhere (not ours), and at the top level
 #: (written at run time).
 SKIP_DIRS = {".git", ".venv", "venv", "__pycache__", ".pytest_cache", ".ruff_cache",

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import tactile_search  # noqa: F401  (registers the ids)
+from agents.evaluation.agent_specs import make_agent
 from agents.scripted import SCRIPTED_AGENTS
 from agents.scripted.core_mappers import OccupancyMapper, VarianceMapper
 from agents.scripted.map_probe import (
@@ -56,6 +57,15 @@ def test_the_map_baselines_are_registered_scripted_agents() -> None:
         ("map_oracle", MapOracle),
     ]:
         assert SCRIPTED_AGENTS[name] is cls and cls().name == name
+
+
+def test_the_map_baselines_are_made_by_name_with_their_maps() -> None:
+    # make_agent (what agents.evaluate and agents.datasets make agents with): the GPIS map
+    # unless an agent names its own; random_map names none, as it plays any map.
+    for name in ("random_map", "variance_mapper", "occupancy_mapper", "map_oracle"):
+        _, env_kwargs = make_agent(name)
+        expected = SCRIPTED_AGENTS[name].env_kwargs.get("map", "gpis")  # type: ignore[attr-defined]
+        assert env_kwargs == {"map": expected, "action_mode": "probe"}, name
 
 
 @pytest.mark.parametrize("cls", [RandomMapAgent, VarianceMapper, OccupancyMapper])

@@ -53,7 +53,8 @@ def _make_unblanked(spec: str, actions: str) -> tuple[Any, dict[str, Any]]:
         return ensemble, ensemble.env_kwargs
     if spec in SCRIPTED_AGENTS:
         factory = SCRIPTED_AGENTS[spec]
-        env_kwargs = dict(getattr(factory, "env_kwargs", {"map": "gpis"}))
+        # The GPIS map unless the agent names its own (random_map plays any map).
+        env_kwargs = {"map": "gpis", **getattr(factory, "env_kwargs", {})}
         if "seed" in inspect.signature(factory).parameters:
             return SeededPerEpisode(factory), env_kwargs
         return factory(), env_kwargs

@@ -9,6 +9,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+#: The file an evaluation writes its rows to, in its results folder.
+EPISODES_FILE = "episodes.csv"
 # The columns of episodes.csv and their types (those of run_episodes' values).
 EPISODE_COLUMNS: dict[str, type] = {
     "agent": str,

@@ -41,6 +41,7 @@ from agents.evaluation.episodes_csv import read_episodes_csv
 from agents.evaluation.evaluation import evaluate
 from agents.evaluation.report import markdown_table
 from agents.grid.budgets import BUDGETS, Budget
+from agents.grid.model_card import write_model_cards
 from agents.grid.results_doc import (
     TaskResults,
     results_markdown,
@@ -116,8 +117,9 @@ def run_budget(
     progress_bar: bool = True,
 ) -> list[TaskResults]:
     """Trains every agent of ``budget`` with every seed in ``seeds`` on every id it trains
-    on, evaluates them on each of its tasks with the task's scripted baselines and keeps each
-    run's record beside the task's results; returns each task's results, in the order of
+    on, evaluates them on each of its tasks with the task's scripted baselines, keeps each
+    run's record beside the task's results and writes each run's model card and digest
+    record (``agents.grid.model_card``); returns each task's results, in the order of
     ``budget.tasks``. ``scheduler``: ``ray`` (Ray tasks, on the cluster at ``address`` or
     ``RAY_ADDRESS``, else on this machine) or ``local`` (one after another in this
     process)."""
@@ -174,6 +176,8 @@ def run_budget(
             for run_dir in task_runs:
                 copy_record(run_dir, results / "training" / run_dir.name)
         outcomes.append(TaskResults(task, task_runs, results, markdown_table(summaries)))
+    # Each trained run's card (its evaluations on every task) and its model's digest record.
+    write_model_cards(run_dirs, budget.results)
     return outcomes
 
 

@@ -97,7 +97,7 @@ class Gpis:
         normal_noise_std: float = DEFAULTS["normal_noise_std"],
         skip_below_variance: float | None = None,
     ) -> int:
-        """Adds contacts: f(points[i]) = 0 and ∇f(points[i]) = normals[i] / |normals[i]|.
+        """Adds contacts: f(points[i]) = 0 and ∇f(points[i]) = normals[i] / ‖normals[i]‖.
 
         Args:
             points: ``(N, 2)`` contact positions inside the bounds.

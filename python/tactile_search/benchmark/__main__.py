@@ -5,22 +5,37 @@ of a policy (see ``tactile_search.benchmark``), printed as one summary row; ``--
 A ``model.zip`` is evaluated as it was trained (its run's ``config.yml``: algorithm, env
 settings, the policy's mode or sampled); each ``--env`` setting overrides one of those, and
 the summary names the env, its map and action mode, how actions were chosen and what was
-overridden. Every failure is one line on stderr (exit status 2), never a traceback."""
+overridden. Every failure is one line on stderr (exit status 2), never a traceback.
+``--json`` writes the result file a leaderboard is made from
+(``tactile_search.benchmark.result_file``, ``python -m tactile_search.benchmark.leaderboard``).
+
+Security: a model.zip holds pickled Python objects, and a module:callable is Python code:
+loading either runs code of its author's choosing, so take them only from a source you
+trust. A model.zip whose digest is recorded beside it (model.digest) is checked against it
+before it is loaded and refused if it changed; one without a record loads with a warning."""
 
 from __future__ import annotations
 
 import argparse
 import ast
 import csv
-import dataclasses
-import json
 import math
+import shlex
+import sys
+import warnings
 from pathlib import Path
 from typing import Any
 
 from tactile_search import ENV_ID, ENV_IDS
+from tactile_search.benchmark.model_digest import UnverifiedModelWarning
 from tactile_search.benchmark.policies import SB3_ALGORITHMS, Sb3Policy, load_policy
-from tactile_search.benchmark.runner import ROW_KEYS, BenchmarkResult, evaluate
+from tactile_search.benchmark.result_file import (
+    model_source,
+    named_source,
+    result_record,
+    write_result,
+)
+from tactile_search.benchmark.runner import DEFAULT_EPISODES, ROW_KEYS, BenchmarkResult, evaluate
 from tactile_search.envs.config import SETTINGS
 from tactile_search.seed_ranges import SPLITS
 
@@ -78,8 +93,16 @@ def summary_line(result: BenchmarkResult) -> str:
 
 
 def main(argv: list[str] | None = None) -> BenchmarkResult:
-    parser = argparse.ArgumentParser(prog="python -m tactile_search.benchmark", description=__doc__)
-    parser.add_argument("--policy", required=True, help="module:callable, or an SB3 model.zip")
+    parser = argparse.ArgumentParser(
+        prog="python -m tactile_search.benchmark",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument(
+        "--policy", required=True,
+        help="module:callable, or an SB3 model.zip (either runs code when loaded: only from a "
+        "source you trust)",
+    )  # fmt: skip
     parser.add_argument(
         "--algo",
         default=None,
@@ -92,7 +115,7 @@ def main(argv: list[str] | None = None) -> BenchmarkResult:
         f"{ENV_ID})",
     )  # fmt: skip
     parser.add_argument("--split", default="validation", choices=sorted(SPLITS))
-    parser.add_argument("--episodes", type=int, default=200)
+    parser.add_argument("--episodes", type=int, default=DEFAULT_EPISODES)
     parser.add_argument("--final", action="store_true", help="the final evaluation (test split)")
     parser.add_argument("--num-envs", type=int, default=None)
     parser.add_argument("--name", default=None, help="the agent's name in the summary")
@@ -100,13 +123,28 @@ def main(argv: list[str] | None = None) -> BenchmarkResult:
         "--env", type=setting, action="append", default=[], metavar="KEY=VALUE",
         help="an env setting, e.g. --env map=occupancy --env action_mode=probe",
     )  # fmt: skip
-    parser.add_argument("--json", type=Path, default=None, help="write the rows and summary")
+    parser.add_argument(
+        "--json", type=Path, default=None,
+        help="write the result file: the leaderboard's fields, the summary and the rows",
+    )  # fmt: skip
     parser.add_argument("--csv", type=Path, default=None, help="write the rows")
     parser.add_argument("--no-progress", action="store_true")
     args = parser.parse_args(argv)
+    command = f"{parser.prog} {shlex.join(sys.argv[1:] if argv is None else argv)}"
     overridden = dict(args.env)
     try:
-        policy = load_policy(args.policy, args.algo)
+        # A model without a recorded digest warns: one line, once it loaded (a failure to
+        # load is its one line alone); other warnings go their usual way.
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", UnverifiedModelWarning)
+            policy = load_policy(args.policy, args.algo)
+        for warning in caught:
+            if issubclass(warning.category, UnverifiedModelWarning):
+                print(f"{parser.prog}: warning: {warning.message}", file=sys.stderr)
+            else:
+                warnings.showwarning(
+                    warning.message, warning.category, warning.filename, warning.lineno
+                )
         actions = (
             "the policy's own"
             if not isinstance(policy, Sb3Policy)
@@ -124,18 +162,12 @@ def main(argv: list[str] | None = None) -> BenchmarkResult:
     print(run_description(result, actions, overridden))
     print(summary_line(result))
     if args.json is not None:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        summary = dataclasses.asdict(result.summary)
-        summary = {
-            k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in summary.items()
-        }
-        args.json.write_text(
-            json.dumps(
-                {"split": result.split, "env_kwargs": result.env_kwargs, "summary": summary,
-                 "rows": result.rows},
-                indent=1, default=str,
-            )
-        )  # fmt: skip
+        source = (
+            model_source(args.policy, policy.digest, policy.verified)
+            if isinstance(policy, Sb3Policy)
+            else named_source("callable", args.policy)
+        )
+        write_result(args.json, result_record(result, source, command))
     if args.csv is not None:
         args.csv.parent.mkdir(parents=True, exist_ok=True)
         with args.csv.open("w", newline="") as file:

@@ -38,7 +38,7 @@ def check_policy(policy: Any) -> None:
     raise TypeError(f"policy must be callable (observation -> action), got {policy!r}")
 
 
-def action_mode(space: spaces.Space) -> str:
+def action_mode(space: spaces.Space[Any]) -> str:
     """The env's ``action_mode`` from its single action space."""
     return "probe" if isinstance(space, spaces.MultiDiscrete) else "wrist"
 
@@ -48,12 +48,12 @@ def action_mode(space: spaces.Space) -> str:
 ENTRIES = {"wrist": ("dx", "dy", "dyaw", "claim"), "probe": ("lane", "depth", "sweep", "claim")}
 
 
-def _entries(space: spaces.Space) -> str:
+def _entries(space: spaces.Space[Any]) -> str:
     """The names of the entries of an action of ``space``: ``dx, dy, dyaw`` and so on."""
     return ", ".join(ENTRIES[action_mode(space)][: int(np.prod(space.shape or ()))])
 
 
-def _describe(space: spaces.Space) -> str:
+def _describe(space: spaces.Space[Any]) -> str:
     if isinstance(space, spaces.MultiDiscrete):
         return f"MultiDiscrete({space.nvec}) (action_mode='probe': {_entries(space)} indices)"
     return f"Box(-1, 1, {space.shape}) (action_mode='wrist': {_entries(space)})"
@@ -67,7 +67,7 @@ class ActionCheck:
     """Checks each of a policy's actions against ``space`` (one env's action space) and
     returns it as an array; see the module docstring for the rule."""
 
-    def __init__(self, space: spaces.Space) -> None:
+    def __init__(self, space: spaces.Space[Any]) -> None:
         self.space = space
         self.mode = action_mode(space)
         self.shape = tuple(space.shape or ())
@@ -145,7 +145,7 @@ class ActionCheck:
         return all(lo <= a <= hi for a, (lo, hi) in zip(action.tolist(), self._bounds, strict=True))
 
 
-def _sb3_pair(returned: tuple) -> bool:
+def _sb3_pair(returned: tuple[Any, ...]) -> bool:
     """``(action, state)`` as SB3's ``predict`` returns it: an array and None or a tuple."""
     first, second = returned
     return isinstance(first, np.ndarray) and (

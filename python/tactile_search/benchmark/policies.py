@@ -9,7 +9,10 @@ and whether its actions are the policy's mode or sampled; a recurrent policy's s
 carried through the episode and cleared at its reset.
 
 Security: an SB3 ``model.zip`` and a named module both run code of their choosing when
-loaded. Load only what you trust.
+loaded. Load only what you trust. A model file with its digest recorded beside it
+(``model.digest``, ``tactile_search.benchmark.model_digest``) is checked against it before
+it is unpickled, and refused if it changed; one without a record loads with an
+``UnverifiedModelWarning``.
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ import copy
 import dataclasses
 import importlib
 import os
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -25,6 +29,12 @@ import numpy as np
 
 from tactile_search import ENV_ID, ENV_IDS
 from tactile_search.benchmark.checks import action_mode
+from tactile_search.benchmark.model_digest import (
+    UnverifiedModelWarning,
+    digest_path,
+    model_digest,
+    verified_digest,
+)
 from tactile_search.envs.config import REWARD_KEYS
 
 #: SB3 algorithms a model.zip may hold, by the name ``--algo`` takes: (module, class).
@@ -97,7 +107,7 @@ class RunConfig:
             ) from None
 
 
-def load_policy(spec: str | os.PathLike, algo: str | None = None) -> Any:
+def load_policy(spec: str | os.PathLike[str], algo: str | None = None) -> Any:
     """The policy ``spec`` names (see the module docstring): for a ``model.zip``, an
     ``Sb3Policy`` that ``evaluate`` runs in the settings its run was trained in. ``algo``
     overrides a model's run config only where they agree (``ValueError`` otherwise)."""
@@ -158,7 +168,7 @@ class Sb3ModelPolicy:
         self.name = type(model).__name__
         self._actions = EpisodeActions(model, recurrent=_recurrent(model))
 
-    def __deepcopy__(self, memo: dict) -> Sb3ModelPolicy:
+    def __deepcopy__(self, memo: dict[int, Any]) -> Sb3ModelPolicy:
         twin = copy.copy(self)
         twin._actions = EpisodeActions(self.model, recurrent=_recurrent(self.model))
         return twin
@@ -188,10 +198,10 @@ class Sb3ModelPolicy:
                     f"and this env's are {ours}"
                 )
 
-    def reset(self, observation: dict, info: dict) -> None:
+    def reset(self, observation: dict[str, np.ndarray], info: dict[str, Any]) -> None:
         self._actions.reset()
 
-    def __call__(self, observation: dict) -> np.ndarray:
+    def __call__(self, observation: dict[str, np.ndarray]) -> np.ndarray:
         return self._actions.predict(observation, deterministic=self.deterministic)
 
 
@@ -199,11 +209,24 @@ class Sb3Policy(Sb3ModelPolicy):
     """An SB3 ``model.zip`` as a policy, as its run config says it was trained
     (``RunConfig``; the policy's mode and ``algo``, default ``ppo``, without one): ``run``
     holds it, ``deterministic`` says how its actions are chosen, and a recurrent model's
-    state is carried through each episode (``Sb3ModelPolicy``)."""
+    state is carried through each episode (``Sb3ModelPolicy``). Before anything of it is
+    unpickled, the file is checked against the digest recorded beside it (``ValueError``
+    if it changed; an ``UnverifiedModelWarning`` if there is no record): ``digest`` is its
+    digest (hex), ``verified`` whether it was checked."""
 
     def __init__(self, path: Path, algo: str | None = None) -> None:
         if not path.is_file():
             raise ValueError(f"{path} is not a file")
+        recorded = verified_digest(path)
+        if recorded is None:
+            warnings.warn(
+                UnverifiedModelWarning(
+                    f"{path} has no recorded digest ({digest_path(path).name} beside it): "
+                    "loading it unverified; a model file can run code when loaded, so load "
+                    "only one from a source you trust"
+                ),
+                stacklevel=3,
+            )
         self.run = RunConfig.beside(path)
         if self.run is not None:
             if self.run.env_id not in ENV_IDS:
@@ -248,6 +271,8 @@ class Sb3Policy(Sb3ModelPolicy):
             ) from None
         super().__init__(model, self.run.deterministic if self.run is not None else True)
         self.name = f"{algo} ({path})"
+        self.verified = recorded is not None
+        self.digest = recorded if recorded is not None else model_digest(path).hex()
 
     @staticmethod
     def _recipe_objects(run: RunConfig, path: Path) -> dict[str, Any]:
@@ -286,11 +311,11 @@ class EpisodeActions:
         self._state: Any = None
         self._episode_start = np.ones((1,), dtype=bool)
 
-    def predict(self, observation: dict, deterministic: bool) -> np.ndarray:
+    def predict(self, observation: dict[str, np.ndarray], deterministic: bool) -> np.ndarray:
         """The model's action for ``observation``: its mode, or a sample from it."""
         if not self._recurrent:
             action, _ = self.model.predict(observation, deterministic=deterministic)
-            return action
+            return np.asarray(action)  # typed: SB3's model reaches here as Any
         action, self._state = self.model.predict(
             observation,
             state=self._state,
@@ -298,4 +323,4 @@ class EpisodeActions:
             deterministic=deterministic,
         )
         self._episode_start = np.zeros((1,), dtype=bool)
-        return action
+        return np.asarray(action)

@@ -37,6 +37,9 @@ ROW_KEYS = (
     "max_jar_displacement", "iou", "reward", "map_score_mm", "map_score_iou", "map_score_area",
 )  # fmt: skip
 
+#: The layouts an evaluation plays unless told otherwise (the split's first seeds).
+DEFAULT_EPISODES = 200
+
 
 def episode_row(seed: int, info: dict[str, Any], actions: int, reward: float) -> dict[str, Any]:
     """One episode's row from the info of its last step (``steps``: wrist motions, the
@@ -76,7 +79,7 @@ class BenchmarkResult:
 def evaluate(
     policy: Callable[[dict[str, np.ndarray]], Any],
     split: str = "validation",
-    episodes: int = 200,
+    episodes: int = DEFAULT_EPISODES,
     *,
     final: bool = False,
     name: str | None = None,
@@ -239,7 +242,7 @@ def _run(
 def _next_episodes(
     vector: CupboardSearchVectorEnv, policies: list[Any], slots: list[_Slot],
     ended: np.ndarray, queue: list[int],
-) -> tuple[dict, dict]:  # fmt: skip
+) -> tuple[dict[str, np.ndarray], dict[str, Any]]:  # fmt: skip
     """Resets the ended slots onto the next seeds (or their own layout, to idle)."""
     layouts: list[int | None] = [None] * len(slots)
     for i in np.flatnonzero(ended).tolist():
@@ -252,7 +255,9 @@ def _next_episodes(
     return observation, info
 
 
-def _begin(policy: Any, observation: dict, info: dict, index: int) -> None:
+def _begin(
+    policy: Any, observation: dict[str, np.ndarray], info: dict[str, Any], index: int
+) -> None:
     reset = getattr(policy, "reset", None)
     if callable(reset):
         reset(_row(observation, index), _row(info, index))

@@ -1,5 +1,6 @@
-"""The statistics of an evaluation: the Wilson interval of a success rate and one agent's
-summary row (success, steps to success, displacement, tips, IoU)."""
+"""The statistics of an evaluation: the Wilson interval of a success rate, the interval of
+a mean (the map task's scores) and one agent's summary row (success, steps to success,
+displacement, tips, IoU, the map scores)."""
 
 from __future__ import annotations
 
@@ -40,6 +41,12 @@ class Summary:
     map_score_mm: float = 0.0
     map_score_iou: float = 0.0
     map_score_area: float = 0.0
+    # The 95 % intervals of the map task's two distances (``mean_interval``; NaN with fewer
+    # than two episodes).
+    map_score_mm_low: float = 0.0
+    map_score_mm_high: float = 0.0
+    map_score_area_low: float = 0.0
+    map_score_area_high: float = 0.0
 
     @property
     def success_rate(self) -> float:
@@ -60,6 +67,18 @@ def wilson_interval(successes: int, n: int, z: float = Z_95) -> tuple[float, flo
     return max(0.0, min(p, centre - half)), min(1.0, max(p, centre + half))
 
 
+def mean_interval(values: Sequence[float], z: float = Z_95) -> tuple[float, float]:
+    """The 95 % interval (by default) of the mean of ``values``, by the normal approximation
+    (mean +- z standard errors, the sample's standard deviation): 2.5 % narrower than
+    Student's t interval from 50 values, under 1 % from 200. NaN with fewer than two
+    values."""
+    if len(values) < 2:
+        return math.nan, math.nan
+    mean = statistics.fmean(values)
+    half = z * statistics.stdev(values) / math.sqrt(len(values))
+    return mean - half, mean + half
+
+
 def summarize(agent: str, map_mode: str, episodes: Sequence[dict[str, Any]]) -> Summary:
     """The table row of one agent's per-episode results (``run_episodes`` dicts)."""
     n = len(episodes)
@@ -73,6 +92,10 @@ def summarize(agent: str, map_mode: str, episodes: Sequence[dict[str, Any]]) -> 
     else:
         q1 = median = q3 = math.nan
     succeeded = [e["jar_displacement"] for e in episodes if e["success"]]
+    map_mm = [float(e.get("map_score_mm", 0.0)) for e in episodes]
+    map_area = [float(e.get("map_score_area", 0.0)) for e in episodes]
+    map_mm_low, map_mm_high = mean_interval(map_mm)
+    map_area_low, map_area_high = mean_interval(map_area)
     return Summary(
         agent=agent,
         map_mode=map_mode,
@@ -89,7 +112,11 @@ def summarize(agent: str, map_mode: str, episodes: Sequence[dict[str, Any]]) -> 
         tip_rate=statistics.fmean(e["tips"] > 0 for e in episodes),
         iou=statistics.fmean(e["iou"] for e in episodes),
         wrong_claim_rate=statistics.fmean(bool(e.get("wrong_claim", False)) for e in episodes),
-        map_score_mm=statistics.fmean(e.get("map_score_mm", 0.0) for e in episodes),
+        map_score_mm=statistics.fmean(map_mm),
         map_score_iou=statistics.fmean(e.get("map_score_iou", 0.0) for e in episodes),
-        map_score_area=statistics.fmean(e.get("map_score_area", 0.0) for e in episodes),
+        map_score_area=statistics.fmean(map_area),
+        map_score_mm_low=map_mm_low,
+        map_score_mm_high=map_mm_high,
+        map_score_area_low=map_area_low,
+        map_score_area_high=map_area_high,
     )
