@@ -1,5 +1,6 @@
 """A tiny training run from a changed copy of a documented recipe, for the tests that check
-what a recipe's settings reach (the evaluation's env, the policy's encoder)."""
+what a recipe's settings reach (the evaluation's env, the policy's encoder); and the recipe's
+clone stage at a size of seconds, for the grid's tests."""
 
 from __future__ import annotations
 
@@ -12,6 +13,15 @@ from agents.imitation.clone_stage import train_with_clone_stage
 from agents.sb3.recipes import HYPERPARAMS_DIR
 from agents.sb3.training import TrainSettings
 from tactile_search import ENV_ID
+
+# The PPO recipe's clone stage at a size of seconds (an imitation section's overrides).
+SMALL_IMITATION = {
+    "demo_episodes": 12,
+    "dagger_rounds": 1,
+    "dagger_episodes": 4,
+    "dagger_epochs": 1,
+    "cloning": {"epochs": 2},
+}
 
 
 def train_with_recipe(

@@ -18,18 +18,10 @@ from agents.grid.budgets import BUDGETS, SCRIPTED, Budget, Task
 from agents.grid.results_doc import markers, task_results_markdown, write_results
 from agents.run_dir import task_folder
 from tactile_search import ENV_ID
+from tests.recipes import SMALL_IMITATION
 
 IDENTIFY = "tactile_search/IdentifyByTouch-v0"
 IDENTIFY_DENSE = "tactile_search/IdentifyByTouchDense-v0"
-
-# The PPO recipe's clone stage at a size of seconds.
-SMALL_IMITATION = {
-    "demo_episodes": 8,
-    "dagger_rounds": 1,
-    "dagger_episodes": 4,
-    "dagger_epochs": 1,
-    "cloning": {"epochs": 1},
-}
 
 
 def test_each_id_keeps_its_runs_and_results_in_a_folder_of_its_name() -> None:

@@ -22,6 +22,7 @@ from agents.grid import ray_scheduler
 from agents.grid.ray_session import connect
 from agents.grid.trials import TrainingTrial, evaluate_shard, shards, train_trial
 from agents.run_dir import model_digest
+from tests.recipes import SMALL_IMITATION
 
 # A few hundred steps a trial: two rollouts of 2 envs x 64 steps.
 TIMESTEPS = 256
@@ -42,16 +43,6 @@ def cluster():
     finally:
         ray.shutdown()
         local.shutdown()
-
-
-# The PPO recipe's clone stage at a size of seconds.
-SMALL_IMITATION = {
-    "demo_episodes": 12,
-    "dagger_rounds": 1,
-    "dagger_episodes": 4,
-    "dagger_epochs": 1,
-    "cloning": {"epochs": 2},
-}
 
 
 def tiny_trials(
