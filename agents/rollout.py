@@ -14,6 +14,7 @@ import numpy as np
 
 from tactile_search import CupboardSearchEnv
 from tactile_search.benchmark import episode_row
+from tactile_search.benchmark.map_curve import MapScoreTrace
 from tactile_search.benchmark.runner import run_on_seeds
 
 
@@ -59,6 +60,7 @@ def run_episodes(
     results = []
     for seed in seeds:
         observation, info = env.reset(seed=seed)
+        trace = MapScoreTrace(info) if env.config.task == "map" else None
         agent.reset(env, observation, info)
         if on_step is not None:
             on_step(env, 0, False)
@@ -66,6 +68,8 @@ def run_episodes(
         for step in range(1, limit + 1):
             observation, reward, terminated, truncated, info = env.step(agent.act(observation))
             total += reward
+            if trace is not None:
+                trace.step(info)
             # The env's own time limit counts wrist motions: in the probe action mode a
             # step is many of them, so its truncation, not this loop's count, ends the run.
             ended = terminated or truncated or step == limit
@@ -73,7 +77,8 @@ def run_episodes(
                 on_step(env, step, ended)
             if ended:
                 break
-        result = episode_row(seed, info, actions=step, reward=total)
+        curve = "" if trace is None else trace.curve(env.config.max_steps)
+        result = episode_row(seed, info, actions=step, reward=total, map_score_curve=curve)
         results.append(result)
         if on_episode is not None:
             on_episode(result)

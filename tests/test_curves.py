@@ -12,7 +12,8 @@ import pytest
 pytest.importorskip("matplotlib")
 
 from agents.evaluation.comparison import agent_results
-from agents.evaluation.curves import plot_curves, success_curve
+from agents.evaluation.curves import map_score_curve, plot_curves, success_curve
+from tactile_search.benchmark.map_curve import MAP_CURVE_POINTS
 
 LAYOUTS = range(1_000_000, 1_000_100)
 
@@ -31,6 +32,9 @@ def rows(rng: np.random.Generator, rate: float, seeds: int = 3) -> list[dict]:
             "wrong_claim": False,
             "map_score_area": float(rng.normal(20, 2)),
             "map_score_mm": float(rng.normal(10, 2)),
+            "map_score_curve": " ".join(
+                repr(float(v)) for v in np.sort(rng.normal(20, 3, MAP_CURVE_POINTS))[::-1]
+            ),
         }
         for seed in range(seeds)
         for layout in LAYOUTS
@@ -59,3 +63,19 @@ def test_a_figure_of_no_rows_or_an_unknown_task_is_refused(tmp_path: Path) -> No
         plot_curves(tmp_path / "x.png", [], "search")
     with pytest.raises(ValueError, match="task must be one of"):
         plot_curves(tmp_path / "x.png", rows(np.random.default_rng(2), 0.5), "sorting")
+
+
+def test_the_map_tasks_curve_is_pooled_point_by_point_inside_its_band() -> None:
+    results = agent_results(rows(np.random.default_rng(5), 0.0))["ppo (gpis map)"]
+    fractions, mean, low, high = map_score_curve(results, samples=300)
+    assert fractions[0] == 0.0 and fractions[-1] == 1.0 and len(mean) == MAP_CURVE_POINTS
+    assert mean == pytest.approx(results.map_curves.mean(axis=(0, 1)))
+    assert np.all(low <= mean + 1e-12) and np.all(mean <= high + 1e-12)
+
+
+def test_rows_without_a_map_curve_give_no_map_figure() -> None:
+    plain = [{**row, "map_score_curve": ""} for row in rows(np.random.default_rng(6), 0.5)]
+    results = agent_results(plain)["ppo (gpis map)"]
+    assert results.map_curves is None
+    with pytest.raises(ValueError, match="no map score curve"):
+        map_score_curve(results)

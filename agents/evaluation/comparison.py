@@ -34,6 +34,7 @@ import numpy as np
 
 from agents.evaluation.episodes_csv import ADDED_COLUMNS
 from agents.sb3.learned import learned_agent_name
+from tactile_search.benchmark.map_curve import parse_map_curve
 from tactile_search.benchmark.statistics import wilson_interval
 
 # The form of agents.evaluation.agent_specs.seeded_name, with the suffixes of a blanked map
@@ -113,6 +114,9 @@ class AgentResults:
     wrong_claims: np.ndarray  # (seeds, layouts) of 0/1: a claim naming another jar or none
     map_score_area: np.ndarray  # (seeds, layouts): the map task's mean outline distance, mm
     map_score_mm: np.ndarray  # (seeds, layouts): ... at the episode's end, mm
+    # (seeds, layouts, MAP_CURVE_POINTS): the distance against the motions (the map task's
+    # rows' map_score_curve), None when the rows hold none.
+    map_curves: np.ndarray | None = None
 
     def restricted(self, layouts: Sequence[int]) -> AgentResults:
         index = [self.layouts.index(seed) for seed in layouts]
@@ -134,6 +138,19 @@ def added(row: dict[str, Any], column: str) -> Any:
     """``row``'s ``column``, one of the columns added with the tasks, or the value an older
     row has (``ADDED_COLUMNS``)."""
     return row.get(column, ADDED_COLUMNS[column])
+
+
+def map_curves(
+    by_seed: dict[int | None, dict[int, dict[str, Any]]],
+    seeds: Sequence[int | None],
+    layouts: Sequence[int],
+) -> np.ndarray | None:
+    """The (seeds, layouts, points) array of the rows' map score curves, or None unless every
+    row holds one (the map task's)."""
+    texts = [[added(by_seed[s][layout], "map_score_curve") for layout in layouts] for s in seeds]
+    if not all(text for row in texts for text in row):
+        return None
+    return np.array([[parse_map_curve(text) for text in row] for row in texts])
 
 
 def agent_results(rows: Sequence[dict[str, Any]]) -> dict[str, AgentResults]:
@@ -169,6 +186,7 @@ def agent_results(rows: Sequence[dict[str, Any]]) -> dict[str, AgentResults]:
             wrong_claims=matrix(lambda r: float(bool(added(r, "wrong_claim")))),
             map_score_area=matrix(lambda r: float(added(r, "map_score_area"))),
             map_score_mm=matrix(lambda r: float(added(r, "map_score_mm"))),
+            map_curves=map_curves(by_seed, seeds, layouts),
         )
     return results
 

@@ -6,9 +6,10 @@ intervals (``docs/results/<task>/curves.png``, written by the pipeline for every
   95 % bootstrap band (``agents.evaluation.comparison.bootstrap_means``: the layouts and each
   agent's training seeds resampled, the same draws at every k). The curve's right end is the
   agent's success; how fast it rises is how soon it finds the target.
-- The map task (no episode succeeds: each runs its budget of motions): each agent's outline
-  distance at the end and averaged over the motions (``MEASURES``' map scores), pooled with
-  95 % bootstrap intervals, one row per agent.
+- The map task (no episode succeeds: each runs its budget of motions): the outline distance
+  against the motions spent (the rows' ``map_score_curve``,
+  ``tactile_search.benchmark.map_curve``), pooled with its 95 % bootstrap band the same way;
+  the lower and the sooner, the better.
 """
 
 from __future__ import annotations
@@ -21,13 +22,12 @@ import numpy as np
 
 from agents.evaluation.comparison import (
     BOOTSTRAP_SEED,
-    MEASURES,
     TASK_MEASURES,
     AgentResults,
     agent_results,
     bootstrap_means,
-    pooled_measure,
 )
+from tactile_search.benchmark.map_curve import MAP_CURVE_POINTS
 
 # Bootstrap samples per point of a curve: a band's edge moves by well under a point between
 # two draws of this many.
@@ -58,6 +58,26 @@ def success_curve(
     return np.array(mean), np.array(low), np.array(high)
 
 
+def map_score_curve(
+    results: AgentResults, samples: int = CURVE_SAMPLES
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The map task's outline distance at each fraction of the budget (``MAP_CURVE_POINTS``
+    from 0 to 1), pooled over training seeds and layouts, with its 95 % bootstrap interval
+    (the same resampled layouts and seeds at every point)."""
+    curves = results.map_curves  # (seeds, layouts, points)
+    if curves is None:
+        raise ValueError(f"{results.agent}'s rows hold no map score curve (not the map task's)")
+    mean, low, high = [], [], []
+    for point in range(MAP_CURVE_POINTS):
+        matrix = curves[:, :, point]
+        (means,) = bootstrap_means([matrix], np.random.default_rng(BOOTSTRAP_SEED), samples)
+        mean.append(matrix.mean())
+        low.append(np.quantile(means, 0.025))
+        high.append(np.quantile(means, 0.975))
+    fractions = np.linspace(0.0, 1.0, MAP_CURVE_POINTS)
+    return fractions, np.array(mean), np.array(low), np.array(high)
+
+
 def plot_curves(
     path: Path, rows: Sequence[dict[str, Any]], task: str, samples: int = CURVE_SAMPLES
 ) -> None:
@@ -81,21 +101,17 @@ def plot_curves(
         ax.set_xlabel("wrist motions")
         ax.set_ylabel("episodes succeeded within (95 % CI)")
         ax.set_ylim(0, 1.02)
-        ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5), frameon=False)
     else:
-        names = TASK_MEASURES[task]
-        fig, axes = plt.subplots(
-            1, len(names), figsize=(4.2 * len(names), 0.6 + 0.45 * len(results))
-        )
-        y = np.arange(len(results))
-        for ax, name in zip(np.atleast_1d(axes), names, strict=True):
-            pooled = [pooled_measure(r, name, samples) for r in results.values()]
-            values = np.array([p[0] for p in pooled])
-            errors = np.array([[p[0] - p[1] for p in pooled], [p[2] - p[0] for p in pooled]])
-            ax.errorbar(values, y, xerr=errors, fmt="o", capsize=4)
-            ax.set_yticks(y, list(results) if ax is np.atleast_1d(axes)[0] else [])
-            ax.set_xlabel(f"{MEASURES[name].label}, {MEASURES[name].better} is better")
-            ax.invert_yaxis()
+        fig, ax = plt.subplots(figsize=(9.0, 4.2))
+        for index, (agent, r) in enumerate(results.items()):
+            fractions, mean, low, high = map_score_curve(r, samples)
+            colour = f"C{index % 10}"
+            ax.plot(100 * fractions, mean, color=colour, label=agent)
+            ax.fill_between(100 * fractions, low, high, color=colour, alpha=0.2, linewidth=0)
+        ax.set_xlabel("wrist motions spent (% of the episode's budget)")
+        ax.set_ylabel("outline distance, mm (95 % CI; lower is better)")
+        ax.set_ylim(bottom=0)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5), frameon=False)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

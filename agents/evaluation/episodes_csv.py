@@ -28,18 +28,21 @@ EPISODE_COLUMNS: dict[str, type] = {
     "map_score_mm": float,
     "map_score_iou": float,
     "map_score_area": float,
+    "map_score_curve": str,
     "fingerprint": str,
 }
 
 
 #: Columns added since the first layout, with the value a row of an older file has: a file
 #: written before the identify and map tasks has no ``wrong_claim`` (no search episode has
-#: one) and no map scores (0 outside the map task).
+#: one) and no map scores (0 outside the map task), one written before the map task's curve
+#: none (empty outside the map task).
 ADDED_COLUMNS: dict[str, Any] = {
     "wrong_claim": False,
     "map_score_mm": 0.0,
     "map_score_iou": 0.0,
     "map_score_area": 0.0,
+    "map_score_curve": "",
 }
 
 
@@ -71,8 +74,10 @@ def read_episodes_csv(path: Path) -> tuple[list[dict[str, Any]], int]:
     with path.open(newline="") as f:
         lines = f.read().splitlines(keepends=True)
     header = next(csv.reader(lines[:1]), [])
-    older = [key for key in EPISODE_COLUMNS if key not in ADDED_COLUMNS]
-    if header not in (list(EPISODE_COLUMNS), older):
+    # This layout, or an older one: the columns in order, some of the added ones missing.
+    known = header == [key for key in EPISODE_COLUMNS if key in header]
+    missing = set(EPISODE_COLUMNS) - set(header)
+    if not header or not known or not missing <= set(ADDED_COLUMNS):
         return [], max(0, len(lines) - 1)
     columns = {key: EPISODE_COLUMNS[key] for key in header}
     rows, bad = [], 0

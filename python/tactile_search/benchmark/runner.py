@@ -22,6 +22,7 @@ import numpy as np
 
 from tactile_search import ENV_ID, ENV_IDS
 from tactile_search.benchmark.checks import ActionCheck, check_policy
+from tactile_search.benchmark.map_curve import MapScoreTrace
 from tactile_search.benchmark.statistics import Summary, summarize
 from tactile_search.envs.config import config_for
 from tactile_search.envs.sub_env import SubEnv
@@ -31,19 +32,24 @@ from tactile_search.seed_ranges import TEST, held_out_seeds
 #: The per-episode row's keys, in order (``wrong_claim``: the identify task's failure by a
 #: claim on another jar or none, always False elsewhere; ``map_score_*``: the map task's
 #: final outline distance (mm), IoU and the distance's mean over the budget (mm), 0
-#: elsewhere).
+#: elsewhere; ``map_score_curve``: the distance against the motions, ``map_curve``'s text,
+#: empty elsewhere).
 ROW_KEYS = (
     "seed", "success", "wrong_claim", "steps", "actions", "tips", "jar_displacement",
     "max_jar_displacement", "iou", "reward", "map_score_mm", "map_score_iou", "map_score_area",
+    "map_score_curve",
 )  # fmt: skip
 
 #: The layouts an evaluation plays unless told otherwise (the split's first seeds).
 DEFAULT_EPISODES = 200
 
 
-def episode_row(seed: int, info: dict[str, Any], actions: int, reward: float) -> dict[str, Any]:
+def episode_row(
+    seed: int, info: dict[str, Any], actions: int, reward: float, map_score_curve: str = ""
+) -> dict[str, Any]:
     """One episode's row from the info of its last step (``steps``: wrist motions, the
-    time limit's count; ``actions``: the policy's steps, a probe each in the probe mode)."""
+    time limit's count; ``actions``: the policy's steps, a probe each in the probe mode;
+    ``map_score_curve``: the map task's, ``map_curve.MapScoreTrace.curve``)."""
     return {
         "seed": seed,
         "success": bool(info["success"]),
@@ -58,6 +64,7 @@ def episode_row(seed: int, info: dict[str, Any], actions: int, reward: float) ->
         "map_score_mm": float(info["map_score_mm"]),
         "map_score_iou": float(info["map_score_iou"]),
         "map_score_area": float(info["map_score_area"]),
+        "map_score_curve": map_score_curve,
     }
 
 
@@ -206,6 +213,8 @@ class _Slot:
         self.seed = seed
         self.actions = 0
         self.reward = 0.0
+        # The map task's distance against the motions (None in the other tasks).
+        self.trace: MapScoreTrace | None = None
 
 
 def _run(
@@ -220,7 +229,7 @@ def _run(
     observation, info = vector.reset(seed=layouts)
     slots = [_Slot(layout, layout if i < len(first) else None) for i, layout in enumerate(layouts)]
     for i, policy in enumerate(policies):
-        _begin(policy, observation, info, i)
+        _begin(policy, observation, info, i, vector, slots[i])
     rows: dict[int, dict[str, Any]] = {}
     while len(rows) < len(seeds):
         actions = np.stack(
@@ -231,8 +240,13 @@ def _run(
         for i, slot in enumerate(slots):
             slot.actions += 1
             slot.reward += float(reward[i])
+            if slot.trace is not None:
+                slot.trace.step(_row(info, i))
             if ended[i] and slot.seed is not None:
-                rows[slot.seed] = episode_row(slot.seed, _row(info, i), slot.actions, slot.reward)
+                curve = "" if slot.trace is None else slot.trace.curve(vector.config.max_steps)
+                rows[slot.seed] = episode_row(
+                    slot.seed, _row(info, i), slot.actions, slot.reward, curve
+                )
                 finished(rows[slot.seed])
         if ended.any():
             observation, info = _next_episodes(vector, policies, slots, ended, queue)
@@ -251,13 +265,18 @@ def _next_episodes(
         layouts[i] = slots[i].layout
     observation, info = vector.reset(seed=layouts, options={"reset_mask": ended.copy()})
     for i in np.flatnonzero(ended).tolist():
-        _begin(policies[i], observation, info, i)
+        _begin(policies[i], observation, info, i, vector, slots[i])
     return observation, info
 
 
 def _begin(
-    policy: Any, observation: dict[str, np.ndarray], info: dict[str, Any], index: int
-) -> None:
+    policy: Any, observation: dict[str, np.ndarray], info: dict[str, Any], index: int,
+    vector: CupboardSearchVectorEnv, slot: _Slot,
+) -> None:  # fmt: skip
+    """Starts slot ``index``'s episode: its map score trace (the map task), its policy's
+    ``reset``."""
+    if vector.config.task == "map":
+        slot.trace = MapScoreTrace(_row(info, index))
     reset = getattr(policy, "reset", None)
     if callable(reset):
         reset(_row(observation, index), _row(info, index))
