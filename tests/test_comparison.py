@@ -12,6 +12,7 @@ from agents.evaluation.comparison import (
     beats_in_every_seed,
     comparison_markdown,
     difference,
+    gap_change,
     overlap,
     overlap_markdown,
     pool,
@@ -198,3 +199,31 @@ def test_the_identify_table_adds_wrong_claims_and_the_map_table_its_scores() -> 
         comparison_markdown(rows, task="sorting")
     with pytest.raises(ValueError, match="measure must be one of"):
         agent_results(rows)["ppo (gpis map)"].measure("reward")
+
+
+def test_a_gap_that_widens_on_the_dense_tier_has_an_interval_above_zero() -> None:
+    rng = np.random.default_rng(7)
+    default = agent_results(learned("gpis", [0.9] * 3, rng) + learned("none", [0.7] * 3, rng))
+    dense = agent_results(learned("gpis", [0.8] * 3, rng) + learned("none", [0.3] * 3, rng))
+    change, low, high = gap_change(
+        dense["ppo (gpis map)"], dense["ppo (none map)"],
+        default["ppo (gpis map)"], default["ppo (none map)"], samples=2000,
+    )  # fmt: skip
+    assert 0 < low < change < high  # 0.5 - 0.2 = 0.3, give or take the draws
+    assert change == pytest.approx(0.3, abs=0.1)
+    same, low, high = gap_change(
+        default["ppo (gpis map)"], default["ppo (none map)"],
+        default["ppo (gpis map)"], default["ppo (none map)"], samples=2000,
+    )  # fmt: skip
+    assert same == 0.0 and low < 0 < high
+
+
+def test_a_gap_change_needs_the_same_models_on_both_tiers() -> None:
+    rng = np.random.default_rng(8)
+    three = agent_results(learned("gpis", [0.9] * 3, rng) + learned("none", [0.7] * 3, rng))
+    two = agent_results(learned("gpis", [0.9] * 2, rng) + learned("none", [0.7] * 2, rng))
+    with pytest.raises(ValueError, match="other training seeds"):
+        gap_change(
+            two["ppo (gpis map)"], two["ppo (none map)"],
+            three["ppo (gpis map)"], three["ppo (none map)"], samples=100,
+        )  # fmt: skip

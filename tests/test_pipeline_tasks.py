@@ -122,3 +122,43 @@ def test_each_task_section_is_written_between_its_own_markers(tmp_path: Path) ->
     assert "v0 table, again" in text and "v0 table\n" not in text
     assert text.startswith("# Results\n") and "findings by hand" in text
     assert text.index("findings by hand") < text.index(begin)  # a new section at the end
+
+
+def seeded_rows(name: str, rate: float, suffix: str, rng) -> list[dict]:
+    """Three training seeds of agent ``name`` (``ppo (gpis map)``) succeeding at ``rate`` on
+    200 layouts, named as an evaluation on the id of ``suffix`` names them."""
+    algo, rest = name.split(" (", 1)
+    return [
+        {
+            "agent": f"{algo} ({rest[:-1]}, seed {seed}){suffix}",
+            "map": "gpis",
+            "seed": layout,
+            "success": bool(rng.random() < rate),
+            "tips": 0,
+            "jar_displacement": 0.0,
+            "steps": 100,
+            "actions": 3,
+        }
+        for seed in range(3)
+        for layout in range(1_000_000, 1_000_200)
+    ]
+
+
+def test_the_dense_tiers_section_gives_the_change_of_each_no_map_gap() -> None:
+    import numpy as np
+
+    from agents.grid.results_doc import gap_change_markdown
+
+    rng = np.random.default_rng(0)
+    dense = Task("tactile_search/CupboardSearchDense-v0", trained_on=ENV_ID)
+    suffix = " [CupboardSearchDense-v0]"
+    dense_rows = seeded_rows("ppo (gpis map)", 0.8, suffix, rng)
+    dense_rows += seeded_rows("ppo (none map)", 0.3, suffix, rng)
+    default_rows = seeded_rows("ppo (gpis map)", 0.9, "", rng)
+    default_rows += seeded_rows("ppo (none map)", 0.7, "", rng)
+    table = gap_change_markdown(dense_rows, default_rows, dense, Task(), samples=500)
+    (row,) = [line for line in table.splitlines() if line.startswith("| ppo (none map)")]
+    gap_default, gap_dense, change = (float(cell.split()[0]) for cell in row.split("|")[2:5])
+    assert change == pytest.approx(gap_dense - gap_default, abs=0.11)
+    assert 20 < change < 40  # 50 - 20 points, give or take the draws
+    assert "recurrent_ppo" not in table  # not in the rows: left out

@@ -271,6 +271,50 @@ def difference(
     )
 
 
+def gap_change(
+    a_dense: AgentResults,
+    b_dense: AgentResults,
+    a_default: AgentResults,
+    b_default: AgentResults,
+    samples: int = BOOTSTRAP_SAMPLES,
+) -> tuple[float, float, float]:
+    """How much A's success gap over B grows from the default tier to the dense one: (A - B on
+    the dense tier) - (A - B on the default tier), with its 95 % bootstrap interval. Each
+    tier's layouts are resampled on their own, the same draw for A and B (paired); each
+    agent's training seeds once for both tiers (the same models play both)."""
+    for agent, dense, default in ((a_dense, a_dense, a_default), (b_dense, b_dense, b_default)):
+        if dense.training_seeds != default.training_seeds:
+            raise ValueError(
+                f"{agent.agent} played the tiers with other training seeds: "
+                f"{dense.training_seeds} and {default.training_seeds}"
+            )
+    tiers = []
+    for a, b in ((a_dense, b_dense), (a_default, b_default)):
+        layouts = sorted(set(a.layouts) & set(b.layouts))
+        if not layouts:
+            raise ValueError(f"{a.agent} and {b.agent} share no evaluated layout")
+        tiers.append((a.restricted(layouts).success, b.restricted(layouts).success))
+    rng = np.random.default_rng(BOOTSTRAP_SEED)
+
+    def weights(count: int) -> np.ndarray:
+        return rng.multinomial(count, np.full(count, 1 / count), samples) / count
+
+    seed_a, seed_b = weights(len(a_dense.training_seeds)), weights(len(b_dense.training_seeds))
+    gaps, observed = [], []
+    for a, b in tiers:
+        layout = weights(a.shape[1])
+        mean_a = np.einsum("bs,sl,bl->b", seed_a, a, layout)
+        mean_b = np.einsum("bs,sl,bl->b", seed_b, b, layout)
+        gaps.append(mean_a - mean_b)
+        observed.append(a.mean() - b.mean())
+    change = gaps[0] - gaps[1]
+    return (
+        float(observed[0] - observed[1]),
+        float(np.quantile(change, 0.025)),
+        float(np.quantile(change, 0.975)),
+    )
+
+
 def pooled_measure(
     results: AgentResults, measure: str, samples: int = BOOTSTRAP_SAMPLES
 ) -> tuple[float, float, float]:

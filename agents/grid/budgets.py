@@ -56,11 +56,16 @@ class Task:
         """The ``task`` setting of ``env_id`` (``search``, ``identify`` or ``map``)."""
         return str(gymnasium.spec(self.env_id).kwargs.get("task", "search"))
 
-    def reference_agent(self) -> str:
-        """The agent every other is compared with here: the GPIS PPO agent, named as the
-        evaluation names it on this id (with the id's name, ``agents.evaluation.evaluation``)."""
+    def agent_name(self, algo: str, map_mode: str) -> str:
+        """A learned agent's name in this task's rows: as the evaluation names it on this id
+        (with the id's name, ``agents.evaluation.evaluation``), without a training seed."""
         folder = task_folder(self.env_id)
-        return f"{REFERENCE_AGENT} [{folder}]" if folder else REFERENCE_AGENT
+        name = learned_agent_name(algo, map_mode)
+        return f"{name} [{folder}]" if folder else name
+
+    def reference_agent(self) -> str:
+        """The agent every other is compared with here: the GPIS PPO agent."""
+        return self.agent_name(*REFERENCE)
 
     def scripted(self) -> tuple[str, ...]:
         """The scripted agents evaluated beside the learned ones: the task's
@@ -156,4 +161,5 @@ BUDGETS = {
 
 
 # The agent every other is compared with.
-REFERENCE_AGENT = learned_agent_name("ppo", "gpis")
+REFERENCE = ("ppo", "gpis")
+REFERENCE_AGENT = learned_agent_name(*REFERENCE)

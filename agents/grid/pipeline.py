@@ -44,6 +44,7 @@ from agents.grid.budgets import BUDGETS, Budget
 from agents.grid.model_card import write_model_cards
 from agents.grid.results_doc import (
     TaskResults,
+    gap_change_markdown,
     results_markdown,
     task_results_markdown,
     write_results,
@@ -202,10 +203,15 @@ def run(
         progress_bar,
     )
     path = budget.results.parent / "RESULTS.md"
+    by_id = {outcome.task.env_id: outcome for outcome in outcomes}
     for outcome in outcomes:
         task = outcome.task
         rows, _ = read_episodes_csv(outcome.results / "episodes.csv")
         comparison = comparison_markdown(rows, reference=task.reference_agent(), task=task.task)
+        if task.trained_on is not None:  # a dense tier: how the no-map gap changes (H3)
+            default = by_id[task.trained_on]
+            default_rows, _ = read_episodes_csv(default.results / "episodes.csv")
+            comparison += "\n" + gap_change_markdown(rows, default_rows, task, default.task)
         plot_curves(outcome.results / "curves.png", rows, task.task)
         sampled = ""
         if task.sampled_too:
