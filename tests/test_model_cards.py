@@ -177,3 +177,20 @@ def test_a_digest_record_that_holds_no_digest_is_refused(tmp_path: Path) -> None
 )
 def test_a_published_model_matches_its_recorded_digest(model: Path) -> None:
     assert verified_digest(model) == model_digest(model).hex()
+
+
+def test_the_projects_evaluation_refuses_a_tampered_model_too(tmp_path, monkeypatch) -> None:
+    import stable_baselines3
+
+    from agents.sb3.learned import LearnedAgent
+
+    run = copy_run(tmp_path)
+    write_digest(run_dir.model_path(run))
+    tamper(run_dir.model_path(run))
+
+    def unpickled(*args, **kwargs):
+        raise AssertionError("the model was loaded before its digest was checked")
+
+    monkeypatch.setattr(stable_baselines3.PPO, "load", unpickled)
+    with pytest.raises(ValueError, match="does not match the digest recorded beside it"):
+        LearnedAgent(run)

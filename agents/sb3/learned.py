@@ -13,6 +13,7 @@ import numpy as np
 
 from agents.run_dir import CONFIG_FILE, model_path, read_run_config, run_label
 from agents.sb3.recipes import algorithm_class
+from tactile_search.benchmark.model_digest import verified_digest
 from tactile_search.benchmark.policies import EpisodeActions, evaluation_settings
 from tactile_search.networks.recipe_classes import load_objects
 
@@ -90,6 +91,9 @@ class LearnedAgent:
         #: What tables call the agent: the run's ``label`` (a variant's name), else its algo.
         self.label: str = run_label(self.config)
         self.name = name or learned_agent_name(self.label, self.map_mode)
+        # A published model is checked against its recorded digest before it is unpickled
+        # (refused if it changed since; a run without a record, such as a fresh one, loads).
+        verified_digest(model_file)
         self.model = load_model(model_file, self.config["algo"], self.config.get("hyperparams"))
         self._check_spaces(model_file)
         # The policy's mode (argmax, mean) or a sample from it: the recipe says which
