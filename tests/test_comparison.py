@@ -227,3 +227,9 @@ def test_a_gap_change_needs_the_same_models_on_both_tiers() -> None:
             two["ppo (gpis map)"], two["ppo (none map)"],
             three["ppo (gpis map)"], three["ppo (none map)"], samples=100,
         )  # fmt: skip
+
+
+def test_a_wrong_claim_is_no_time_out() -> None:
+    rows = task_rows("gpis", 0, np.array([True, False] * 100), np.full(200, 20.0))
+    results = agent_results(rows)["ppo (gpis map)"]  # no success, no tip in these rows
+    assert results.wrong_claims.mean() == 0.5 and results.timeouts.mean() == 0.5

@@ -6,7 +6,8 @@ trained with several seeds appears once per seed (``ppo (gpis map, seed 1)``). H
 - ``pool``: per agent, the success pooled over its training seeds and layouts, a 95 %
   bootstrap interval of it, each seed's success and the spread across seeds (max - min);
   tips, time-outs and jar displacement per episode (an episode ends when the target is
-  touched, when a jar tips, or at the time limit: a failure without a tip is a time-out),
+  touched or claimed, when a jar tips, at a wrong claim, or at the time limit: a failure
+  with neither a tip nor a wrong claim is a time-out),
   and the wrist motions an action costs (the time limit counts motions; a probe is many);
 - ``difference``: agent A's pooled success minus agent B's, with a 95 % bootstrap interval
   over layouts and training seeds: each resample draws the layouts with replacement (the
@@ -178,7 +179,12 @@ def agent_results(rows: Sequence[dict[str, Any]]) -> dict[str, AgentResults]:
             layouts=layouts,
             success=matrix(lambda r: float(r["success"])),
             tips=matrix(lambda r: float(int(r["tips"]) > 0)),
-            timeouts=matrix(lambda r: float(not r["success"] and int(r["tips"]) == 0)),
+            # A failure neither by a tip nor by a wrong claim (identify) ran out of time.
+            timeouts=matrix(
+                lambda r: float(
+                    not r["success"] and int(r["tips"]) == 0 and not added(r, "wrong_claim")
+                )
+            ),
             displacement_mm=matrix(lambda r: 1000.0 * float(r["jar_displacement"])),
             motions=matrix(lambda r: float(r["steps"])),
             actions=matrix(lambda r: float(r["actions"])),
