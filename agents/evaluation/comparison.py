@@ -203,15 +203,27 @@ def bootstrap_means(
     """For each (seeds x layouts) matrix, ``samples`` bootstrap means: the layouts drawn with
     replacement once per sample for all matrices (paired), each matrix's seeds drawn with
     replacement on their own."""
-    n_layouts = matrices[0].shape[1]
-    layout_weights = rng.multinomial(n_layouts, np.full(n_layouts, 1 / n_layouts), samples)
-    layout_weights = layout_weights / n_layouts
+    layout_weights = resample_weights(rng, matrices[0].shape[1], samples)
     means = []
     for matrix in matrices:
-        n_seeds = matrix.shape[0]
-        seed_weights = rng.multinomial(n_seeds, np.full(n_seeds, 1 / n_seeds), samples) / n_seeds
+        seed_weights = resample_weights(rng, matrix.shape[0], samples)
         means.append(np.einsum("bs,sl,bl->b", seed_weights, matrix, layout_weights))
     return means
+
+
+def resample_weights(rng: np.random.Generator, count: int, samples: int) -> np.ndarray:
+    """``samples`` draws of ``count`` items with replacement, as each item's share of the
+    draw: the (samples x count) weights a bootstrap mean takes."""
+    return rng.multinomial(count, np.full(count, 1 / count), samples) / count
+
+
+def pooled_interval(
+    matrix: np.ndarray, samples: int = BOOTSTRAP_SAMPLES
+) -> tuple[float, float, float]:
+    """A (seeds x layouts) matrix's mean and its 95 % bootstrap interval (layouts and seeds
+    resampled, ``bootstrap_means``; the same draws for every matrix of a shape)."""
+    (means,) = bootstrap_means([matrix], np.random.default_rng(BOOTSTRAP_SEED), samples)
+    return float(matrix.mean()), float(np.quantile(means, 0.025)), float(np.quantile(means, 0.975))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -234,8 +246,7 @@ class Pooled:
 
 def pool(results: AgentResults, samples: int = BOOTSTRAP_SAMPLES) -> Pooled:
     """``results`` pooled over training seeds and layouts (see the module docstring)."""
-    rng = np.random.default_rng(BOOTSTRAP_SEED)
-    (means,) = bootstrap_means([results.success], rng, samples)
+    success, success_low, success_high = pooled_interval(results.success, samples)
     n_layouts = len(results.layouts)
     per_seed = []
     for seed, row in zip(results.training_seeds, results.success, strict=True):
@@ -246,9 +257,9 @@ def pool(results: AgentResults, samples: int = BOOTSTRAP_SAMPLES) -> Pooled:
         agent=results.agent,
         training_seeds=results.training_seeds,
         episodes=int(results.success.size),
-        success=float(results.success.mean()),
-        success_low=float(np.quantile(means, 0.025)),
-        success_high=float(np.quantile(means, 0.975)),
+        success=success,
+        success_low=success_low,
+        success_high=success_high,
         per_seed=tuple(per_seed),
         spread=max(rates) - min(rates),
         tip_rate=float(results.tips.mean()),
@@ -301,14 +312,11 @@ def gap_change(
             raise ValueError(f"{a.agent} and {b.agent} share no evaluated layout")
         tiers.append((a.restricted(layouts).success, b.restricted(layouts).success))
     rng = np.random.default_rng(BOOTSTRAP_SEED)
-
-    def weights(count: int) -> np.ndarray:
-        return rng.multinomial(count, np.full(count, 1 / count), samples) / count
-
-    seed_a, seed_b = weights(len(a_dense.training_seeds)), weights(len(b_dense.training_seeds))
+    seed_a = resample_weights(rng, len(a_dense.training_seeds), samples)
+    seed_b = resample_weights(rng, len(b_dense.training_seeds), samples)
     gaps, observed = [], []
     for a, b in tiers:
-        layout = weights(a.shape[1])
+        layout = resample_weights(rng, a.shape[1], samples)
         mean_a = np.einsum("bs,sl,bl->b", seed_a, a, layout)
         mean_b = np.einsum("bs,sl,bl->b", seed_b, b, layout)
         gaps.append(mean_a - mean_b)
@@ -326,9 +334,7 @@ def pooled_measure(
 ) -> tuple[float, float, float]:
     """``results``' ``measure`` pooled over training seeds and layouts, with its 95 %
     bootstrap interval (as ``pool``'s success)."""
-    matrix = results.measure(measure)
-    (means,) = bootstrap_means([matrix], np.random.default_rng(BOOTSTRAP_SEED), samples)
-    return float(matrix.mean()), float(np.quantile(means, 0.025)), float(np.quantile(means, 0.975))
+    return pooled_interval(results.measure(measure), samples)
 
 
 def beats_in_every_seed(a: Pooled, b: Pooled) -> bool | None:

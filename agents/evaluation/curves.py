@@ -3,7 +3,7 @@ intervals (``docs/results/<task>/curves.png``, written by the pipeline for every
 
 - A task with success (search, identify): for each budget of k motions, the share of
   episodes that succeeded within k motions, pooled over training seeds and layouts, with a
-  95 % bootstrap band (``agents.evaluation.comparison.bootstrap_means``: the layouts and each
+  95 % bootstrap band (``agents.evaluation.comparison.pooled_interval``: the layouts and each
   agent's training seeds resampled, the same draws at every k). The curve's right end is the
   agent's success; how fast it rises is how soon it finds the target.
 - The map task (no episode succeeds: each runs its budget of motions): the outline distance
@@ -21,11 +21,10 @@ from typing import Any
 import numpy as np
 
 from agents.evaluation.comparison import (
-    BOOTSTRAP_SEED,
     TASK_MEASURES,
     AgentResults,
     agent_results,
-    bootstrap_means,
+    pooled_interval,
 )
 from tactile_search.benchmark.map_curve import MAP_CURVE_POINTS
 
@@ -35,6 +34,16 @@ CURVE_SAMPLES = 2_000
 
 # Points per curve: motion budgets evenly spaced from 0 to the longest episode.
 CURVE_POINTS = 60
+
+
+def pooled_band(
+    matrices: list[np.ndarray], samples: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each (seeds x layouts) matrix's pooled mean and 95 % bootstrap interval
+    (``comparison.pooled_interval``: the same resampled layouts and seeds for each), as
+    arrays along ``matrices``."""
+    mean, low, high = zip(*(pooled_interval(matrix, samples) for matrix in matrices), strict=True)
+    return np.array(mean), np.array(low), np.array(high)
 
 
 def success_within(results: AgentResults, budget: float) -> np.ndarray:
@@ -48,14 +57,7 @@ def success_curve(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """For each motion budget, the pooled share of episodes succeeded within it and its 95 %
     bootstrap interval (the same resampled layouts and seeds at every budget)."""
-    mean, low, high = [], [], []
-    for budget in budgets:
-        matrix = success_within(results, float(budget))
-        (means,) = bootstrap_means([matrix], np.random.default_rng(BOOTSTRAP_SEED), samples)
-        mean.append(matrix.mean())
-        low.append(np.quantile(means, 0.025))
-        high.append(np.quantile(means, 0.975))
-    return np.array(mean), np.array(low), np.array(high)
+    return pooled_band([success_within(results, float(budget)) for budget in budgets], samples)
 
 
 def map_score_curve(
@@ -67,15 +69,10 @@ def map_score_curve(
     curves = results.map_curves  # (seeds, layouts, points)
     if curves is None:
         raise ValueError(f"{results.agent}'s rows hold no map score curve (not the map task's)")
-    mean, low, high = [], [], []
-    for point in range(MAP_CURVE_POINTS):
-        matrix = curves[:, :, point]
-        (means,) = bootstrap_means([matrix], np.random.default_rng(BOOTSTRAP_SEED), samples)
-        mean.append(matrix.mean())
-        low.append(np.quantile(means, 0.025))
-        high.append(np.quantile(means, 0.975))
     fractions = np.linspace(0.0, 1.0, MAP_CURVE_POINTS)
-    return fractions, np.array(mean), np.array(low), np.array(high)
+    return fractions, *pooled_band(
+        [curves[:, :, point] for point in range(MAP_CURVE_POINTS)], samples
+    )
 
 
 def plot_curves(
