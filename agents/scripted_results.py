@@ -17,7 +17,8 @@ import shlex
 import sys
 from pathlib import Path
 
-from agents.evaluation.scripted_results import id_task, result_file_name, scripted_result
+from agents.evaluation.evaluation import task_of
+from agents.evaluation.scripted_results import result_file_name, scripted_result
 from agents.scripted import SCRIPTED_AGENTS, scripted_agents_for
 from tactile_search import ENV_ID, ENV_IDS
 from tactile_search.benchmark.__main__ import summary_line
@@ -48,7 +49,7 @@ def main(argv: list[str] | None = None) -> list[Path]:
     written = []
     try:
         for env_id in args.env_id:
-            for name in args.agents or scripted_agents_for(id_task(env_id)):
+            for name in args.agents or scripted_agents_for(task_of(env_id)):
                 result = scripted_result(
                     name, env_id, args.split, args.episodes,
                     final=args.final, num_envs=args.num_envs,

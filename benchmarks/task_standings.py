@@ -33,6 +33,7 @@ from typing import Any
 import gymnasium
 
 from agents.evaluation.agent_specs import make_agent
+from agents.evaluation.evaluation import task_of
 from agents.evaluation.fingerprints import code_fingerprints
 from agents.rollout import evaluate_agent
 from agents.run_dir import write_atomically
@@ -55,18 +56,14 @@ def standing_ids() -> list[str]:
     return [
         env_id
         for env_id in ENV_IDS
-        if _task(env_id) in SUCCESS_TASKS
-        and any(a != ORACLE for a in scripted_agents_for(_task(env_id)))
+        if task_of(env_id) in SUCCESS_TASKS
+        and any(a != ORACLE for a in scripted_agents_for(task_of(env_id)))
     ]
-
-
-def _task(env_id: str) -> str:
-    return gymnasium.spec(env_id).kwargs.get("task", "search")
 
 
 def tier_agents(env_id: str) -> list[str]:
     """The scripted agents run on ``env_id``: those that play its task, the oracle last."""
-    agents = scripted_agents_for(_task(env_id))
+    agents = scripted_agents_for(task_of(env_id))
     return [a for a in agents if a != ORACLE] + [ORACLE]
 
 
@@ -157,7 +154,7 @@ def markdown(rows: Sequence[dict[str, Any]], gaps: Sequence[dict[str, Any]], inf
         "|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
-        identify = _task(r["env_id"]) == "identify"
+        identify = task_of(r["env_id"]) == "identify"
         wrong = f"{r['wrong_claim_rate']:.1%}" if identify else "-"
         lines.append(
             f"| {r['env_id'].split('/')[-1]} | {r['agent']} | {r['action_mode']} "

@@ -22,6 +22,7 @@ pytest.importorskip("stable_baselines3")
 import minari
 
 from agents.evaluation.agent_specs import make_agent
+from agents.evaluation.evaluation import task_of
 from agents.imitation.teachers import PLANNER
 from agents.offline.catalogue import (
     TEACHERS,
@@ -30,7 +31,6 @@ from agents.offline.catalogue import (
     dataset_sources,
     default_env_ids,
     published_runs,
-    task_of,
 )
 from agents.offline.recording import make_env, record_episodes, training_seeds
 from agents.offline.references import REFERENCE_AGENTS, ReferenceScores, reference_scores

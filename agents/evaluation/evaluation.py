@@ -50,6 +50,7 @@ from agents.rollout import evaluate_agent
 from agents.run_dir import write_atomically
 from agents.scripted import SCRIPTED_AGENTS
 from tactile_search import ENV_ID, ENV_IDS
+from tactile_search._core import registered_envs
 from tactile_search._validation import as_bool
 from tactile_search.benchmark.statistics import Summary, summarize
 from tactile_search.envs.config import SETTINGS
@@ -108,6 +109,15 @@ def prepare_evaluation(
     kept = [done[name, seed] for name in names for seed in seeds if (name, seed) in done]
     write_episodes_csv(csv_path, kept)
     return made, names, fingerprints, done
+
+
+def task_of(env_id: str) -> str:
+    """The task (the ``task`` setting) registered id ``env_id`` asks, from the core's
+    registry; ``ValueError`` for an id that is not registered."""
+    for env in registered_envs():
+        if env["id"] == env_id:
+            return str(env["task"])
+    raise ValueError(f"env_id must be one of {list(ENV_IDS)}, got {env_id!r}")
 
 
 def env_id_settings(env_id: str | None) -> dict[str, Any]:

@@ -11,21 +11,14 @@ on a split's first layouts, and summarised by the benchmark's ``summarize``.
 
 from __future__ import annotations
 
-import gymnasium
-
 from agents.evaluation.agent_specs import make_agent
-from agents.evaluation.evaluation import env_id_settings, evaluation_seeds
+from agents.evaluation.evaluation import env_id_settings, evaluation_seeds, task_of
 from agents.rollout import evaluate_agent
 from agents.scripted import SCRIPTED_AGENTS, SCRIPTED_TASKS
 from tactile_search import ENV_ID
 from tactile_search.benchmark.runner import DEFAULT_EPISODES, BenchmarkResult
 from tactile_search.benchmark.statistics import summarize
 from tactile_search.envs.config import config_for
-
-
-def id_task(env_id: str) -> str:
-    """The task (the ``task`` setting) registered id ``env_id`` runs."""
-    return str(gymnasium.spec(env_id).kwargs.get("task", "search"))
 
 
 def scripted_result(
@@ -44,7 +37,7 @@ def scripted_result(
     if name not in SCRIPTED_AGENTS:
         raise ValueError(f"a scripted agent is one of {list(SCRIPTED_AGENTS)}, got {name!r}")
     settings = env_id_settings(env_id)  # a registered id, or ValueError
-    task = id_task(env_id)
+    task = task_of(env_id)
     if task not in SCRIPTED_TASKS[name]:
         raise ValueError(
             f"{name} plays the tasks {list(SCRIPTED_TASKS[name])}, and {env_id} is the {task} task"

@@ -18,8 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import gymnasium
-
+from agents.evaluation.evaluation import task_of
 from agents.run_dir import PUBLISHED_RUNS, task_folder
 from agents.sb3.learned import learned_agent_name
 from agents.scripted import scripted_agents_for
@@ -54,7 +53,7 @@ class Task:
     @property
     def task(self) -> str:
         """The ``task`` setting of ``env_id`` (``search``, ``identify`` or ``map``)."""
-        return str(gymnasium.spec(self.env_id).kwargs.get("task", "search"))
+        return task_of(self.env_id)
 
     def agent_name(self, algo: str, map_mode: str) -> str:
         """A learned agent's name in this task's rows: as the evaluation names it on this id

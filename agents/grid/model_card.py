@@ -19,10 +19,9 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-import gymnasium
-
 from agents.evaluation.agent_specs import seeded_name
 from agents.evaluation.episodes_csv import EPISODES_FILE, read_episodes_csv
+from agents.evaluation.evaluation import task_of
 from agents.grid.results_doc import commit_text, machine_text, range_text, wall_clock_text
 from agents.run_dir import (
     CONFIG_FILE,
@@ -117,7 +116,7 @@ def evaluation_sections(config: dict[str, Any], results: Path) -> list[str]:
         if not found:
             continue
         name, mine = found[0]
-        task = str(gymnasium.spec(env_id).kwargs.get("task", "search"))
+        task = task_of(env_id)
         seeds = sorted(row["seed"] for row in mine)
         summary = dataclasses.asdict(summarize(name, config["map"], mine))
         header = ["layouts", *summary_columns(task)]
@@ -211,7 +210,7 @@ def model_card_markdown(run_dir: Path, config: dict[str, Any], digest: str, resu
     """The card of the finished run in ``run_dir`` (its ``config``), whose model's digest is
     ``digest`` (hex), evaluated in ``results``."""
     env_id = config.get("env_id", ENV_ID)
-    task = str(gymnasium.spec(env_id).kwargs.get("task", "search"))
+    task = task_of(env_id)
     summary = next(env["summary"] for env in registered_envs() if env["id"] == env_id)
     label = run_label(config)
     model = shown_path(model_path(run_dir))

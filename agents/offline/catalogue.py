@@ -16,6 +16,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from agents.evaluation.evaluation import task_of
 from agents.run_dir import PUBLISHED_RUNS, is_finished, recorded_config, task_folder
 from agents.scripted import SCRIPTED_AGENTS, SCRIPTED_TASKS
 from tactile_search import ENV_ID, ENV_IDS
@@ -45,15 +46,6 @@ class DatasetSource:
     env_id: str
     agent: str
     dataset_id: str
-
-
-def task_of(env_id: str) -> str:
-    """The task (the ``task`` setting) registered id ``env_id`` asks; ``ValueError`` for an id
-    that is not registered."""
-    for env in registered_envs():
-        if env["id"] == env_id:
-            return str(env["task"])
-    raise ValueError(f"env_id must be one of {list(ENV_IDS)}, got {env_id!r}")
 
 
 def default_env_ids() -> list[str]:

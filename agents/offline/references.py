@@ -17,7 +17,7 @@ import gymnasium
 import numpy as np
 
 from agents.evaluation.agent_specs import make_agent
-from agents.offline.catalogue import task_of
+from agents.evaluation.evaluation import task_of
 from agents.offline.recording import agent_settings, check_training_seeds
 from agents.rollout import run_episodes
 
