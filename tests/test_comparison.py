@@ -7,6 +7,8 @@ import numpy as np
 import pytest
 
 from agents.evaluation.comparison import (
+    MEASURES,
+    TASK_MEASURES,
     agent_and_seed,
     agent_results,
     beats_in_every_seed,
@@ -233,3 +235,10 @@ def test_a_wrong_claim_is_no_time_out() -> None:
     rows = task_rows("gpis", 0, np.array([True, False] * 100), np.full(200, 20.0))
     results = agent_results(rows)["ppo (gpis map)"]  # no success, no tip in these rows
     assert results.wrong_claims.mean() == 0.5 and results.timeouts.mean() == 0.5
+
+
+def test_every_task_of_the_core_has_the_measures_that_decide_it() -> None:
+    from tactile_search.benchmark.summary_table import TASKS
+
+    assert set(TASK_MEASURES) == set(TASKS)
+    assert all(set(names) <= set(MEASURES) for names in TASK_MEASURES.values())
