@@ -161,8 +161,8 @@ def task_results_markdown(budget: Budget, outcome: TaskResults, comparison: str)
     folder = task_folder(task.env_id)
     seeds = held_out_seeds(budget.split, budget.episodes)
     lines = [f"Produced by `make results`: `{task.env_id}` (task `{task.task}`), "]
-    configs = [read_run_config(run_dir, required=()) for run_dir in outcome.run_dirs]
     if task.trained_on is None:
+        configs = [read_run_config(run_dir, required=()) for run_dir in outcome.run_dirs]
         lines[0] += (
             "every learned agent trained on it "
             f"(`agents/hyperparams/`, key `{task.env_id}`) with code "
