@@ -433,7 +433,8 @@ impl PyEpisodeBatch {
 
     /// Ground truth and map of episode `index` for rendering: jars (shape name, centre,
     /// yaw, half width, tilt, whether the target, whether a hidden decoy), the last step's
-    /// `claim` (`{"jar", "correct"}`, None without one), the map task's reconstruction
+    /// `claim` (`{"jar", "correct"}`, None without one), `touched_jar` (the jar a claim
+    /// would name now, `Episode::touched_jar`: None when the finger touches none), the map task's reconstruction
     /// `score_mean` (its GPIS mean grid, None in other tasks), hand, finger, contacts, the hand's
     /// sizes, the map's bounds, its grids by name under `map` (`mean` and `std` for gpis,
     /// `occupancy`; none in the `none` mode, in the order of the mode's channels), and,
@@ -492,6 +493,7 @@ impl PyEpisodeBatch {
         } else {
             d.set_item("claim", py.None())?;
         }
+        d.set_item("touched_jar", episode.touched_jar())?;
         let hand = scene.hand_pose();
         d.set_item("hand", (hand.x, hand.y, hand.yaw))?;
         let finger = scene.finger_pose();
