@@ -9,7 +9,7 @@ export VIRTUAL_ENV := $(abspath $(VENV))
 export PATH := $(abspath $(VENV))/bin:$(PATH)
 
 .DEFAULT_GOAL := help
-.PHONY: help demo results test test-env build build-dev bench performance fuzz lint rust-lint python-lint format clean paper stubs wheel wheel-check docs
+.PHONY: help demo results test test-env rust-test build build-dev bench performance fuzz lint rust-lint python-lint format clean paper stubs wheel wheel-check docs
 
 help: ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  %-10s %s\n", $$1, $$2}'
@@ -37,13 +37,15 @@ results: $(VENV)/.extra-agents $(VENV)/.extra-scale build ## the documented budg
 
 # Two tracks side by side, each in order: the Rust lints (in their own target dir, so they
 # neither wait for the extension's build nor undo it) and the environment (venv, extras,
-# release build); then the Python lints, cargo test (release: on the build's dependencies)
-# and pytest on every core. docs/DESIGN.md §12 says where the time goes.
+# release build); then the Python lints beside cargo test (release: on the build's
+# dependencies), and pytest on every core. docs/DESIGN.md §12 says where the time goes.
 test: ## cargo fmt/clippy, ruff, cargo test and pytest (Ray tests on a local cluster)
 	$(MAKE) --no-print-directory -j2 --output-sync=target rust-lint test-env
-	$(MAKE) --no-print-directory python-lint
-	cargo test --workspace --release
+	$(MAKE) --no-print-directory -j2 --output-sync=target python-lint rust-test
 	$(PY) -m pytest -q -n auto --dist loadfile --durations=15
+
+rust-test: ## cargo test, every crate of the workspace, release
+	cargo test --workspace --release
 
 test-env: ## the venv with every extra the tests need, and the release build, one step at a time
 	$(MAKE) --no-print-directory -j1 build-dev $(VENV)/.extra-scale $(VENV)/.extra-docs $(VENV)/.extra-datasets
