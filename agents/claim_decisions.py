@@ -17,16 +17,18 @@ from pathlib import Path
 
 from agents.evaluation.agent_specs import ACTIONS
 from agents.evaluation.claim_decisions import Decision, decisions_markdown, trace_decisions
+from tactile_search._core import registered_envs
 from tactile_search.seed_ranges import held_out_seeds
 
-IDENTIFY_ID = "tactile_search/IdentifyByTouch-v0"
+#: The registered ids whose task claims, in the core registry's order (the default tier first).
+IDENTIFY_IDS = [str(env["id"]) for env in registered_envs() if env["task"] == "identify"]
 
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("agents", nargs="+", help="run directories and scripted agents' names")
     parser.add_argument("--episodes", type=int, default=200, help="validation layouts")
-    parser.add_argument("--env-id", default=IDENTIFY_ID, help="an identify id")
+    parser.add_argument("--env-id", choices=IDENTIFY_IDS, default=IDENTIFY_IDS[0])
     parser.add_argument("--actions", choices=ACTIONS, default="mode")
     parser.add_argument(
         "--blank-map-channels", nargs="+", default=(), metavar="NAME=VALUE",

@@ -62,25 +62,24 @@ def trace_decisions(
     env_kwargs = {**env_kwargs, **env_id_settings(env_id)}
     decisions: list[Decision] = []
     touches: Counter[int] = Counter()
-    pending: list[tuple[str, int]] = []  # the decision the next step answers
+    pending: tuple[str, int] | None = None  # the decision the next step answers
 
     def on_step(env: Any, step: int, done: bool) -> None:
+        nonlocal pending
         state = env.render_state()
         if step == 0:
             touches.clear()
-            pending.clear()
-        elif pending:
-            touched, touch = pending.pop()
-            decisions.append(Decision(touched, touch, state["claim"] is not None))
+        elif pending is not None:
+            decisions.append(Decision(*pending, claimed=state["claim"] is not None))
+        pending = None
         if done:
             return
         jar = state["touched_jar"]
         if jar is None:
-            pending.append(("no jar", 0))
-            return
-        touches[jar] += 1
-        kind = jar_kind(state["jars"][jar])
-        pending.append((kind, min(touches[jar], TOUCH_COUNTS[-1])))
+            pending = ("no jar", 0)
+        else:
+            touches[jar] += 1
+            pending = (jar_kind(state["jars"][jar]), min(touches[jar], TOUCH_COUNTS[-1]))
 
     run_episodes(agent, list(seeds), on_step=on_step, **env_kwargs)
     return agent.name, decisions
