@@ -162,3 +162,28 @@ def test_the_dense_tiers_section_gives_the_change_of_each_no_map_gap() -> None:
     assert change == pytest.approx(gap_dense - gap_default, abs=0.11)
     assert 20 < change < 40  # 50 - 20 points, give or take the draws
     assert "recurrent_ppo" not in table  # not in the rows: left out
+
+
+def test_a_piece_of_a_budget_keeps_only_the_tasks_it_names_in_the_budgets_order() -> None:
+    full = BUDGETS["full"]
+    piece = full.only([IDENTIFY_DENSE, IDENTIFY])
+    assert [task.env_id for task in piece.tasks] == [IDENTIFY, IDENTIFY_DENSE]
+    assert piece.trained_ids() == [IDENTIFY]
+    assert piece.agents == full.agents and piece.runs == full.runs
+    with pytest.raises(ValueError, match="does not train"):
+        full.only([IDENTIFY_DENSE])  # a dense tier without the agents that play it
+    with pytest.raises(ValueError, match="tasks must be some of"):
+        BUDGETS["demo"].only([IDENTIFY])
+    with pytest.raises(ValueError, match="tasks must be some of"):
+        full.only([])
+
+
+def test_the_pipeline_command_refuses_a_piece_the_budget_cannot_run(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    from agents.pipeline import main
+
+    with pytest.raises(SystemExit) as exit_info:
+        main(["--budget", "full", "--tasks", IDENTIFY_DENSE])
+    assert exit_info.value.code == 2
+    assert "does not train" in capsys.readouterr().err

@@ -14,6 +14,8 @@ tier (how they generalise).
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -114,6 +116,19 @@ class Budget:
     def trained_ids(self) -> list[str]:
         """The ids the budget trains its agents on, in the order of ``tasks``."""
         return [task.env_id for task in self.tasks if task.trained_on is None]
+
+    def only(self, env_ids: Sequence[str]) -> Budget:
+        """This budget with only the tasks of ``env_ids`` (in the budget's order): a piece of
+        its grid that trains, evaluates and writes those tasks' sections alone, so that a
+        grid longer than a sitting runs in pieces. A dense tier needs the id whose agents
+        play it among ``env_ids`` too (``__post_init__`` says so)."""
+        known = [task.env_id for task in self.tasks]
+        unknown = [env_id for env_id in env_ids if env_id not in known]
+        if unknown or not env_ids:
+            raise ValueError(f"tasks must be some of this budget's {known}, got {list(env_ids)}")
+        return dataclasses.replace(
+            self, tasks=tuple(task for task in self.tasks if task.env_id in env_ids)
+        )
 
 
 # The documented budget's models (model.zip beside config.yml, one folder per run).

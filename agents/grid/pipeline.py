@@ -25,7 +25,9 @@ Interrupted at any point (Ctrl-C, a kill), the same command finishes the work wi
 redoing what is done: a run whose ``model.zip`` exists is reused (delete the run directory
 to retrain), a partly trained run resumes from its newest checkpoint
 (``agents.sb3.training.TrainSettings(resume=True)``), and the evaluation reuses the per-episode rows
-already in ``episodes.csv`` (``agents.evaluation.evaluation.evaluate``).
+already in ``episodes.csv`` (``agents.evaluation.evaluation.evaluate``). ``--tasks`` runs a
+piece of a budget, some of its tasks (a dense tier with the id whose agents play it): their
+training, evaluation and sections alone, the other sections of RESULTS.md kept as they are.
 """
 
 from __future__ import annotations
@@ -188,12 +190,16 @@ def run(
     scheduler: str | None = None,
     address: str | None = None,
     progress_bar: bool = True,
+    env_ids: Sequence[str] | None = None,
 ) -> Path:
     """Trains, evaluates and writes the results of ``budget_name``; returns the results dir.
-    ``seeds`` defaults to the budget's; ``scheduler`` to ``default_scheduler()``."""
+    ``seeds`` defaults to the budget's; ``scheduler`` to ``default_scheduler()``;
+    ``env_ids`` to every task of the budget (else those tasks alone, ``Budget.only``)."""
     if budget_name not in BUDGETS:
         raise ValueError(f"budget must be one of {sorted(BUDGETS)}, got {budget_name!r}")
     budget = BUDGETS[budget_name]
+    if env_ids is not None:
+        budget = budget.only(env_ids)
     started = time.perf_counter()
     outcomes = run_budget(
         budget,
