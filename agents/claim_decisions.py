@@ -17,11 +17,12 @@ from pathlib import Path
 
 from agents.evaluation.agent_specs import ACTIONS
 from agents.evaluation.claim_decisions import Decision, decisions_markdown, trace_decisions
-from tactile_search._core import registered_envs
+from agents.evaluation.evaluation import task_of
+from tactile_search import ENV_IDS
 from tactile_search.seed_ranges import held_out_seeds
 
 #: The registered ids whose task claims, in the core registry's order (the default tier first).
-IDENTIFY_IDS = [str(env["id"]) for env in registered_envs() if env["task"] == "identify"]
+IDENTIFY_IDS = [env_id for env_id in ENV_IDS if task_of(env_id) == "identify"]
 
 
 def main(argv: list[str] | None = None) -> None:
