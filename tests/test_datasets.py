@@ -143,7 +143,7 @@ def test_the_reference_scores_are_the_random_and_oracle_returns() -> None:
 def test_an_id_without_published_runs_gets_its_teacher_and_a_line(tmp_path: Path) -> None:
     map_id = "tactile_search/MapByTouch-v0"
     sources, notes = dataset_sources([map_id], published=tmp_path)
-    assert [s.dataset_id for s in sources] == ["tactile_search/map/variance_mapper-v0"]
+    assert [s.dataset_id for s in sources] == ["tactile_search/map/occupancy_mapper-v0"]
     assert any("no learned agent published yet" in note for note in notes), notes
 
 
@@ -210,8 +210,8 @@ def test_the_command_writes_each_ids_datasets_and_says_what_it_skipped(tmp_path:
     )
     assert done.returncode == 0, done.stderr[-3000:]
     assert "MapByTouch-v0: no learned agent published yet" in done.stdout
-    assert "tactile_search/map/variance_mapper-v0: 2 episodes" in done.stdout
+    assert "tactile_search/map/occupancy_mapper-v0: 2 episodes" in done.stdout
     with datasets_root(out):
-        dataset = minari.load_dataset("tactile_search/map/variance_mapper-v0")
+        dataset = minari.load_dataset("tactile_search/map/occupancy_mapper-v0")
     assert dataset.storage.metadata["ref_min_agent"] == "random_map"
     assert dataset.storage.metadata["ref_episodes"] == 1

@@ -38,12 +38,12 @@ def test_the_search_recipe_has_no_setting_of_another_task() -> None:
     assert "task" not in load_hyperparams("ppo", "gpis", ENV_ID)["env_kwargs"]
 
 
-def test_the_map_recipes_clone_the_variance_mapper_without_approach_shaping() -> None:
+def test_the_map_recipes_clone_the_occupancy_mapper_without_approach_shaping() -> None:
     for map_mode in ("gpis", "occupancy", "none"):
         recipe = load_hyperparams("ppo", map_mode, "tactile_search/MapByTouch-v0")
         assert recipe["env_kwargs"]["task"] == "map"
         assert recipe["env_kwargs"]["reward_approach"] == 0.0  # no target to approach
-        assert recipe["imitation"]["teacher"] == "variance_mapper"
+        assert recipe["imitation"]["teacher"] == "occupancy_mapper"
 
 
 @pytest.mark.parametrize("env_id", sorted({env_id for _, env_id, _ in RECIPES}))

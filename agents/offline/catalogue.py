@@ -1,7 +1,7 @@
 """Which datasets a registered id gets and what each is called.
 
 Each task's datasets are its scripted teacher's (the core's planner its learned agents clone:
-``gpis_probe_planner`` for search, ``identify_planner`` for identify, ``variance_mapper`` for
+``gpis_probe_planner`` for search, ``identify_planner`` for identify, ``occupancy_mapper`` for
 map) and one per learned agent published for the id (a finished run under
 ``docs/results/models/<the id's folder>/``, ``agents.run_dir.task_folder``). A dataset's
 Minari id is ``tactile_search/<task>/<agent>-v0``: the task of the id (``search``,
@@ -31,7 +31,7 @@ DATASET_VERSION = 0
 TEACHERS: dict[str, str] = {
     "search": "gpis_probe_planner",
     "identify": "identify_planner",
-    "map": "variance_mapper",
+    "map": "occupancy_mapper",
 }
 # What Minari accepts as a dataset's name (its DATASET_NAME_RE).
 _DATASET_NAME = re.compile(r"[-_\w]+")
