@@ -25,12 +25,12 @@ from agents.evaluation.agent_specs import make_agent
 from agents.evaluation.evaluation import task_of
 from agents.imitation.teachers import PLANNER
 from agents.offline.catalogue import (
-    TEACHERS,
     DatasetSource,
     dataset_id,
     dataset_sources,
     default_env_ids,
     published_runs,
+    teacher,
 )
 from agents.offline.recording import make_env, record_episodes, training_seeds
 from agents.offline.references import REFERENCE_AGENTS, ReferenceScores, reference_scores
@@ -39,6 +39,7 @@ from agents.rollout import evaluate_agent
 from agents.run_dir import code_version
 from agents.sb3.recipes import load_hyperparams
 from agents.scripted import SCRIPTED_TASKS, GpisProbePlanner
+from tactile_search import ENV_IDS
 from tactile_search.seed_ranges import TRAINING, VALIDATION, held_out_seeds
 
 REPO = Path(__file__).resolve().parents[1]
@@ -46,8 +47,7 @@ REFERENCES = ReferenceScores("random", -2.0, "oracle", 0.5, episodes=1)
 
 
 def teacher_source(env_id: str) -> DatasetSource:
-    teacher = TEACHERS[task_of(env_id)]
-    return DatasetSource(env_id, teacher, dataset_id(env_id, teacher))
+    return DatasetSource(env_id, teacher(env_id), dataset_id(env_id, teacher(env_id)))
 
 
 def assert_same(recorded: object, replayed: object, what: str) -> None:
@@ -116,10 +116,14 @@ def test_datasets_refuse_layouts_outside_the_training_range() -> None:
         training_seeds(1.5)  # type: ignore[arg-type]
 
 
-def test_each_tasks_teacher_is_the_planner_its_learned_agents_clone() -> None:
-    for env_id in default_env_ids():
-        recipe = load_hyperparams("ppo", "gpis", env_id)
-        assert TEACHERS[task_of(env_id)] == recipe["imitation"].get("teacher", PLANNER)
+def test_each_ids_teacher_is_the_planner_every_learned_agent_of_its_task_clones() -> None:
+    agents = (("ppo", "gpis"), ("ppo", "occupancy"), ("ppo", "none"), ("recurrent_ppo", "none"))
+    for env_id in ENV_IDS:
+        default_tier = next(i for i in default_env_ids() if task_of(i) == task_of(env_id))
+        for algo, map_mode in agents:
+            recipe = load_hyperparams(algo, map_mode, default_tier)
+            assert teacher(env_id) == recipe["imitation"].get("teacher", PLANNER), (env_id, algo)
+        assert task_of(env_id) in SCRIPTED_TASKS[teacher(env_id)], env_id
 
 
 def test_the_reference_agents_play_their_task() -> None:

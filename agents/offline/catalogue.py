@@ -1,12 +1,12 @@
 """Which datasets a registered id gets and what each is called.
 
-Each task's datasets are its scripted teacher's (the core's planner its learned agents clone:
-``gpis_probe_planner`` for search, ``identify_planner`` for identify, ``occupancy_mapper`` for
-map) and one per learned agent published for the id (a finished run under
-``docs/results/models/<the id's folder>/``, ``agents.run_dir.task_folder``). A dataset's
-Minari id is ``tactile_search/<task>/<agent>-v0``: the task of the id (``search``,
-``identify``, ``map``; a denser tier adds its own name, ``search_cupboardsearchdense``), the
-agent's name (a scripted agent's, or the run directory's: ``ppo_gpis_seed0``).
+Each task's datasets are its scripted teacher's (the core's planner its learned agents clone,
+as the task's recipe names it: ``teacher``) and one per learned agent published for the id
+(a finished run under ``docs/results/models/<the id's folder>/``,
+``agents.run_dir.task_folder``). A dataset's Minari id is
+``tactile_search/<task>/<agent>-v0``: the task of the id (``search``, ``identify``, ``map``;
+a denser tier adds its own name, ``search_cupboardsearchdense``), the agent's name (a
+scripted agent's, or the run directory's: ``ppo_gpis_seed0``).
 """
 
 from __future__ import annotations
@@ -17,7 +17,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from agents.evaluation.evaluation import task_of
+from agents.imitation.teachers import PLANNER
 from agents.run_dir import PUBLISHED_RUNS, is_finished, recorded_config, task_folder
+from agents.sb3.recipes import load_hyperparams
 from agents.scripted import SCRIPTED_AGENTS, SCRIPTED_TASKS
 from tactile_search import ENV_ID, ENV_IDS
 from tactile_search._core import registered_envs
@@ -26,13 +28,6 @@ from tactile_search._core import registered_envs
 NAMESPACE = "tactile_search"
 #: The version every dataset id ends with (``-v0``).
 DATASET_VERSION = 0
-#: Each task's scripted teacher: the planner its learned agents' clone stage learns from
-#: (the recipes' ``imitation.teacher``, ``tests/test_datasets.py`` checks they agree).
-TEACHERS: dict[str, str] = {
-    "search": "gpis_probe_planner",
-    "identify": "identify_planner",
-    "map": "occupancy_mapper",
-}
 # What Minari accepts as a dataset's name (its DATASET_NAME_RE).
 _DATASET_NAME = re.compile(r"[-_\w]+")
 
@@ -55,6 +50,16 @@ def default_env_ids() -> list[str]:
     for env in registered_envs():
         first.setdefault(str(env["task"]), str(env["id"]))
     return list(first.values())
+
+
+def teacher(env_id: str) -> str:
+    """The scripted teacher of ``env_id``'s task: the planner its learned agents' clone stage
+    learns from, as the recipe of the task's default tier names it (``imitation.teacher`` in
+    ``agents/hyperparams/ppo.yml``, the same for every agent of an id:
+    ``tests/test_recipes_by_id.py``), the GPIS probe planner where the recipe names none."""
+    default_tier = {task_of(first): first for first in default_env_ids()}[task_of(env_id)]
+    recipe = load_hyperparams("ppo", "gpis", default_tier)
+    return str(recipe["imitation"].get("teacher", PLANNER))
 
 
 def dataset_id(env_id: str, agent_name: str) -> str:
@@ -126,7 +131,7 @@ def dataset_sources(
 ) -> tuple[list[DatasetSource], list[str]]:
     """The datasets to write for ``env_ids`` and a line for everything passed over.
 
-    Without ``agents``: each id's teacher (``TEACHERS``) and its published runs
+    Without ``agents``: each id's teacher (``teacher``) and its published runs
     (``published_runs`` under ``published``). With ``agents`` (scripted names or run
     directories): each on the ids among ``env_ids`` it plays (``plays``); ``ValueError`` for
     an agent that plays none of them."""
@@ -136,7 +141,7 @@ def dataset_sources(
         if agents is None:
             runs, skipped = published_runs(env_id, published)
             notes += skipped
-            chosen = [TEACHERS[task_of(env_id)], *map(str, runs)]
+            chosen = [teacher(env_id), *map(str, runs)]
         else:
             chosen = [agent for agent in agents if plays(agent, env_id)]
         sources += [DatasetSource(env_id, a, dataset_id(env_id, agent_name(a))) for a in chosen]
