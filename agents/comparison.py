@@ -2,6 +2,8 @@
 command)::
 
     python -m agents.comparison docs/results/episodes.csv [--reference AGENT] [--task identify]
+    python -m agents.comparison docs/results/MapByTouch-v0/episodes.csv --task map \\
+        --reference "ppo (gpis map) [MapByTouch-v0]" --sources   # the layouts' share
     python -m agents.comparison docs/results/episodes.csv \\
         --overlap "ppo (gpis map)" gpis_probe_planner    # who fails where
 
@@ -13,7 +15,12 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from agents.evaluation.comparison import TASK_MEASURES, comparison_markdown, overlap_markdown
+from agents.evaluation.comparison import (
+    TASK_MEASURES,
+    comparison_markdown,
+    interval_sources_markdown,
+    overlap_markdown,
+)
 from agents.evaluation.episodes_csv import read_episodes_csv
 
 
@@ -29,6 +36,12 @@ def main(argv: list[str] | None = None) -> None:
         "(identify: wrong claims; map: the map scores)",
     )
     parser.add_argument(
+        "--sources",
+        action="store_true",
+        help="instead: each difference from the reference (needed) beside its interval over "
+        "the layouts alone, the training seeds held",
+    )
+    parser.add_argument(
         "--overlap",
         nargs=2,
         metavar=("A", "B"),
@@ -40,6 +53,10 @@ def main(argv: list[str] | None = None) -> None:
         raise SystemExit(f"{args.episodes} holds no episode")
     if args.overlap:
         print(overlap_markdown(rows, *args.overlap))
+    elif args.sources:
+        if args.reference is None:
+            raise SystemExit("--sources needs --reference: the agent the differences are from")
+        print(interval_sources_markdown(rows, args.reference, task=args.task))
     else:
         print(comparison_markdown(rows, args.reference, task=args.task))
 

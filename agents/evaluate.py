@@ -15,7 +15,7 @@ from pathlib import Path
 
 from agents.command_args import parse_setting
 from agents.evaluation.agent_specs import ACTIONS
-from agents.evaluation.evaluation import env_id_settings, evaluate
+from agents.evaluation.evaluation import evaluate, evaluated_task
 from agents.evaluation.report import markdown_table
 from agents.scripted import SCRIPTED_AGENTS, scripted_agents_for
 from tactile_search import ENV_ID, ENV_IDS
@@ -88,8 +88,8 @@ def main(argv: list[str] | None = None) -> None:
         f"id's name (default: {ENV_ID}, the defaults)",
     )
     args = parser.parse_args(argv)
+    task = evaluated_task(args.env_id, dict(args.env_settings))
     if args.scripted is None:
-        task = {**env_id_settings(args.env_id), **dict(args.env_settings)}.get("task", "search")
         args.scripted = scripted_agents_for(task)
     summaries = evaluate(
         [*args.runs, *args.scripted],
@@ -105,7 +105,7 @@ def main(argv: list[str] | None = None) -> None:
         env_settings=dict(args.env_settings),
         env_id=args.env_id,
     )
-    print(markdown_table(summaries))
+    print(markdown_table(summaries, task))
 
 
 if __name__ == "__main__":

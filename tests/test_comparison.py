@@ -15,6 +15,7 @@ from agents.evaluation.comparison import (
     comparison_markdown,
     difference,
     gap_change,
+    interval_sources_markdown,
     overlap,
     overlap_markdown,
     pool,
@@ -196,6 +197,10 @@ def test_the_identify_table_adds_wrong_claims_and_the_map_table_its_scores() -> 
     assert "wrong claims" not in search and "map distance" not in search
     assert "wrong claims, difference" in identify and "map distance" not in identify
     assert "| ppo (occupancy map) | -10.0 | [-10.0, -10.0] |" in mapping
+    # Each seed's figures of the task's measures: the map distance with its interval over
+    # layouts, the identify task's wrong claims beside its success.
+    assert "| ppo (gpis map) | 0 | 20.0 | [20.0, 20.0] | 10.0 | [10.0, 10.0] |" in mapping
+    assert "| training seed | success | 95 % CI (Wilson) | wrong claims |" in identify
     assert "map distance at the end (mm), difference" in mapping
     with pytest.raises(ValueError, match="task must be one of"):
         comparison_markdown(rows, task="sorting")
@@ -242,3 +247,33 @@ def test_every_task_of_the_core_has_the_measures_that_decide_it() -> None:
 
     assert set(TASK_MEASURES) == set(TASKS)
     assert all(set(names) <= set(MEASURES) for names in TASK_MEASURES.values())
+
+
+def test_the_map_task_which_has_no_success_shows_none() -> None:
+    rng = np.random.default_rng(5)
+    n = len(LAYOUTS)
+    rows = task_rows("gpis", 0, np.zeros(n), 20 + rng.normal(0, 1, n))
+    rows += task_rows("occupancy", 0, np.zeros(n), 22 + rng.normal(0, 1, n))
+    mapping = comparison_markdown(rows, samples=200, task="map")
+    assert "success" not in mapping and "timed out" not in mapping
+    assert "| ppo (gpis map) | 0 | 200 | 0.0% | 1.0 | 30.0 |" in mapping
+
+
+def test_the_layouts_alone_interval_leaves_out_what_the_seeds_disagree_on() -> None:
+    # Two GPIS seeds far apart (0.9 and 0.5) against two occupancy seeds alike (0.7): the
+    # difference's interval over layouts and seeds is wide, the one over layouts alone narrow.
+    n = len(LAYOUTS)
+    rows = (
+        rows_of("ppo (gpis map, seed 0)", np.arange(n) % 10 < 9)
+        + rows_of("ppo (gpis map, seed 1)", np.arange(n) % 10 < 5)
+        + rows_of("ppo (occupancy map, seed 0)", np.arange(n) % 10 < 7)
+        + rows_of("ppo (occupancy map, seed 1)", np.arange(n) % 10 < 7)
+        + rows_of("gpis_planner", np.ones(n))
+    )
+    text = interval_sources_markdown(rows, "ppo (gpis map)", samples=2000)
+    (line,) = [row for row in text.splitlines() if row.startswith("| ppo (occupancy map) |")]
+    full, fixed = (cell.strip("[] |").split(", ") for cell in line.split(" | ")[3:5])
+    assert float(full[1]) - float(full[0]) > 2 * (float(fixed[1]) - float(fixed[0]))
+    assert "gpis_planner" not in text  # one run: no seeds to hold
+    with pytest.raises(ValueError, match="reference must be one of"):
+        interval_sources_markdown(rows, "nobody")

@@ -12,7 +12,7 @@ import pytest
 from agents.command_args import settings_label
 from agents.evaluate import main as evaluate_main
 from agents.evaluation.comparison import agent_and_seed
-from agents.evaluation.evaluation import checked_env_settings, evaluate
+from agents.evaluation.evaluation import checked_env_settings, evaluate, evaluated_task
 
 KWARGS = {"episodes": 2, "gifs": False}
 
@@ -69,3 +69,24 @@ def test_the_label_sorts_the_keys_and_writes_values_as_json() -> None:
     assert settings_label({"max_steps": 3, "fast_free_motion": True}) == (
         "fast_free_motion=true, max_steps=3"
     )
+
+
+def test_the_task_evaluated_is_the_ids_unless_a_setting_changes_it() -> None:
+    assert evaluated_task(None) == "search"
+    assert evaluated_task("tactile_search/MapByTouch-v0") == "map"
+    assert evaluated_task("tactile_search/MapByTouch-v0", {"task": "identify"}) == "identify"
+    with pytest.raises(ValueError, match="env_id must be one of"):
+        evaluated_task("tactile_search/Sorting-v0")
+
+
+def test_a_map_evaluation_tables_its_scores_and_plots_no_success(tmp_path: Path) -> None:
+    evaluate(
+        ["random_map"],
+        out=tmp_path,
+        env_id="tactile_search/MapByTouch-v0",
+        env_settings={"max_steps": 3},
+        **KWARGS,
+    )
+    table = (tmp_path / "results.md").read_text()
+    assert "distance over the motions, mm (95 % CI)" in table and "success" not in table
+    assert not (tmp_path / "success.png").exists() and not (tmp_path / "steps.png").exists()

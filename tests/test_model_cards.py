@@ -194,3 +194,14 @@ def test_the_projects_evaluation_refuses_a_tampered_model_too(tmp_path, monkeypa
     monkeypatch.setattr(stable_baselines3.PPO, "load", unpickled)
     with pytest.raises(ValueError, match="does not match the digest recorded beside it"):
         LearnedAgent(run)
+
+
+def test_a_card_reads_no_rows_of_another_tasks_run_of_the_same_name(tmp_path: Path) -> None:
+    # The map task's run ppo_none_seed0 and the search task's share the agent name
+    # "ppo (none map, seed 0)"; the search evaluation's rows are the search run's, not its.
+    run = copy_run(tmp_path / "models", f"MapByTouch-v0/{RUN}")
+    results = tmp_path / "results"
+    results.mkdir()
+    write_episodes_csv(results / EPISODES_FILE, published_rows({AGENT}))
+    text = write_model_card(run, results).read_text()
+    assert "Not evaluated yet" in text and "CupboardSearch-v0" not in text

@@ -15,7 +15,7 @@ import pytest
 pytest.importorskip("stable_baselines3")
 
 from agents.grid.budgets import BUDGETS, SCRIPTED, Budget, Task
-from agents.grid.results_doc import markers, task_results_markdown, write_results
+from agents.grid.results_doc import TaskResults, markers, task_results_markdown, write_results
 from agents.run_dir import task_folder
 from tactile_search import ENV_ID
 from tests.recipes import SMALL_IMITATION
@@ -104,8 +104,17 @@ def test_a_budget_of_two_tasks_trains_once_and_evaluates_both(tmp_path: Path) ->
     section = task_results_markdown(budget, identify, "| pooled |\n")
     assert "`tactile_search/IdentifyByTouch-v0` (task `identify`)" in section
     assert "| ppo (none map) | 0 |" in section and "| pooled |" in section
+    assert "| wrong claims |" in identify.table and "success.png" in section
     dense_section = task_results_markdown(budget, dense, "| pooled |\n")
     assert f"played by the agents trained on `{IDENTIFY}`" in dense_section
+
+
+def test_the_map_tasks_section_shows_its_scores_figure_and_no_success(tmp_path: Path) -> None:
+    budget = dataclasses.replace(BUDGETS["full"], results=tmp_path)
+    outcome = TaskResults(Task("tactile_search/MapByTouch-v0"), [], tmp_path, "| table |\n")
+    section = task_results_markdown(budget, outcome, "| pooled |\n")
+    assert "results/MapByTouch-v0/curves.png" in section
+    assert "success" not in section.lower() and "steps.png" not in section
 
 
 def test_each_task_section_is_written_between_its_own_markers(tmp_path: Path) -> None:

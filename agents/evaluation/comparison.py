@@ -17,6 +17,8 @@ trained with several seeds appears once per seed (``ppo (gpis map, seed 1)``). H
   non-overlapping (Wilson) intervals in every training seed, seed i against seed i; with a
   ``task``, also the task's own measures (``TASK_MEASURES``: the identify task's wrong
   claims, the map task's scores), pooled and differenced the same way;
+- ``interval_sources_markdown``: each difference's interval beside the one over the layouts
+  alone, these training seeds held: how much of its width more test layouts would remove;
 - ``overlap``: where A and B succeed and fail, layout by layout: over every (training seed
   of A, training seed of B, layout), how often both succeed, A alone, B alone, neither; and
   the layouts that defeat every training seed of A (``overlap_markdown``).
@@ -36,7 +38,7 @@ import numpy as np
 from agents.evaluation.episodes_csv import ADDED_COLUMNS
 from agents.sb3.learned import learned_agent_name
 from tactile_search.benchmark.map_curve import parse_map_curve
-from tactile_search.benchmark.statistics import wilson_interval
+from tactile_search.benchmark.statistics import mean_interval, wilson_interval
 
 # The form of agents.evaluation.agent_specs.seeded_name, with the suffixes of a blanked map
 # (agents.evaluation.map_ablation) and of changed env settings (agents.evaluation.evaluation)
@@ -198,15 +200,24 @@ def agent_results(rows: Sequence[dict[str, Any]]) -> dict[str, AgentResults]:
 
 
 def bootstrap_means(
-    matrices: Sequence[np.ndarray], rng: np.random.Generator, samples: int
+    matrices: Sequence[np.ndarray],
+    rng: np.random.Generator,
+    samples: int,
+    resample_seeds: bool = True,
 ) -> list[np.ndarray]:
     """For each (seeds x layouts) matrix, ``samples`` bootstrap means: the layouts drawn with
     replacement once per sample for all matrices (paired), each matrix's seeds drawn with
-    replacement on their own."""
+    replacement on their own (or, without ``resample_seeds``, every seed once: the
+    interval of these trained seeds, the layouts' share of the uncertainty alone)."""
     layout_weights = resample_weights(rng, matrices[0].shape[1], samples)
     means = []
     for matrix in matrices:
-        seed_weights = resample_weights(rng, matrix.shape[0], samples)
+        seeds = matrix.shape[0]
+        seed_weights = (
+            resample_weights(rng, seeds, samples)
+            if resample_seeds
+            else np.full((samples, seeds), 1 / seeds)
+        )
         means.append(np.einsum("bs,sl,bl->b", seed_weights, matrix, layout_weights))
     return means
 
@@ -270,16 +281,23 @@ def pool(results: AgentResults, samples: int = BOOTSTRAP_SAMPLES) -> Pooled:
 
 
 def difference(
-    a: AgentResults, b: AgentResults, samples: int = BOOTSTRAP_SAMPLES, measure: str = "success"
+    a: AgentResults,
+    b: AgentResults,
+    samples: int = BOOTSTRAP_SAMPLES,
+    measure: str = "success",
+    resample_seeds: bool = True,
 ) -> tuple[float, float, float]:
     """A's pooled ``measure`` (``MEASURES``) minus B's on the layouts both met, and its 95 %
-    bootstrap interval (paired over layouts, over each agent's training seeds)."""
+    bootstrap interval (paired over layouts, over each agent's training seeds unless
+    ``resample_seeds`` is False: then over the layouts alone, ``bootstrap_means``)."""
     layouts = sorted(set(a.layouts) & set(b.layouts))
     if not layouts:
         raise ValueError(f"{a.agent} and {b.agent} share no evaluated layout")
     a, b = a.restricted(layouts), b.restricted(layouts)
     rng = np.random.default_rng(BOOTSTRAP_SEED)
-    mean_a, mean_b = bootstrap_means([a.measure(measure), b.measure(measure)], rng, samples)
+    mean_a, mean_b = bootstrap_means(
+        [a.measure(measure), b.measure(measure)], rng, samples, resample_seeds
+    )
     diffs = mean_a - mean_b
     return (
         float(a.measure(measure).mean() - b.measure(measure).mean()),
@@ -406,52 +424,106 @@ def comparison_markdown(
     samples: int = BOOTSTRAP_SAMPLES,
     task: str = "search",
 ) -> str:
-    """The pooled table, the per-seed table and the differences of ``reference`` (default:
-    the first agent) against every other agent, as markdown; then, for ``task``'s measures
-    other than success (``TASK_MEASURES``), each pooled and differenced (``measure_markdown``)."""
+    """The pooled table, the per-seed table of ``task``'s measures (``TASK_MEASURES``) and,
+    where the task has a success, the differences of ``reference`` (default: the first agent)
+    against every other agent, as markdown; then each of the task's measures other than
+    success pooled and differenced (``measure_markdown``). The map task, which has no
+    success, shows none."""
     if task not in TASK_MEASURES:
         raise ValueError(f"task must be one of {sorted(TASK_MEASURES)}, got {task!r}")
     results = agent_results(rows)
     reference = reference or next(iter(results))
     if reference not in results:
         raise ValueError(f"reference must be one of {sorted(results)}, got {reference!r}")
-    others = [
+    measures = TASK_MEASURES[task]
+    has_success = "success" in measures
+    pooled = {agent: pool(r, samples) for agent, r in results.items()}
+    parts = [_pooled_markdown(pooled, has_success), _per_seed_markdown(results, measures)]
+    if has_success:
+        parts.append(_success_difference_markdown(results, pooled, reference, samples))
+    parts += [
         measure_markdown(results, reference, name, samples)
-        for name in TASK_MEASURES[task]
+        for name in measures
         if name != "success"
     ]
-    return _success_markdown(results, reference, samples) + "".join(f"\n{text}" for text in others)
+    return "\n".join(parts)
 
 
-def _success_markdown(results: dict[str, AgentResults], reference: str, samples: int) -> str:
-    pooled = {agent: pool(r, samples) for agent, r in results.items()}
-    lines = [
-        "| agent | training seeds | episodes | success, pooled | 95 % CI (bootstrap) "
-        "| spread across seeds | episodes with a tip | episodes timed out "
-        "| jar displacement (mm per episode) | wrist motions per action |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+def _pooled_markdown(pooled: dict[str, Pooled], has_success: bool) -> str:
+    """Each agent pooled over its training seeds: success (where the task has one), how its
+    episodes end otherwise, the jars it displaces and the wrist motions it spends."""
+    success_columns = (
+        ["success, pooled", "95 % CI (bootstrap)", "spread across seeds"] if has_success else []
+    )
+    ending_columns = ["episodes with a tip"] + (["episodes timed out"] if has_success else [])
+    columns = [
+        "agent",
+        "training seeds",
+        "episodes",
+        *success_columns,
+        *ending_columns,
+        "jar displacement (mm per episode)",
+        "wrist motions per action",
     ]
+    lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
     for p in pooled.values():
         seeds = ", ".join(_seed_text(s) for s in p.training_seeds)
-        lines.append(
-            f"| {p.agent} | {seeds} | {p.episodes} | {_percent(p.success)} "
-            f"| [{_percent(p.success_low)}, {_percent(p.success_high)}] "
-            f"| {_percent(p.spread)} | {_percent(p.tip_rate)} | {_percent(p.timeout_rate)} "
-            f"| {p.displacement_mm:.1f} | {p.motions_per_action:.1f} |"
+        success_cells = (
+            [
+                _percent(p.success),
+                f"[{_percent(p.success_low)}, {_percent(p.success_high)}]",
+                _percent(p.spread),
+            ]
+            if has_success
+            else []
         )
-    lines += [
-        "",
-        "| agent | training seed | success | 95 % CI (Wilson) |",
-        "|---|---|---|---|",
-    ]
-    for p in pooled.values():
-        for seed, rate, low, high in p.per_seed:
-            lines.append(
-                f"| {p.agent} | {_seed_text(seed)} | {_percent(rate)} "
-                f"| [{_percent(low)}, {_percent(high)}] |"
-            )
-    lines += [
-        "",
+        ending_cells = [_percent(p.tip_rate)] + ([_percent(p.timeout_rate)] if has_success else [])
+        cells = [
+            p.agent,
+            seeds,
+            str(p.episodes),
+            *success_cells,
+            *ending_cells,
+            f"{p.displacement_mm:.1f}",
+            f"{p.motions_per_action:.1f}",
+        ]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def _per_seed_markdown(results: dict[str, AgentResults], measures: Sequence[str]) -> str:
+    """Each training seed's figure of every measure in ``measures``, with its 95 % interval
+    over the layouts: Wilson's for a rate, the normal approximation's for millimetres."""
+    header = ["agent", "training seed"]
+    for name in measures:
+        label = MEASURES[name].label
+        kind = "Wilson" if MEASURES[name].percent else "over layouts"
+        header += [label, f"95 % CI ({kind})"]
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for agent, r in results.items():
+        for index, seed in enumerate(r.training_seeds):
+            cells = [agent, _seed_text(seed)]
+            for name in measures:
+                values = r.measure(name)[index]
+                measure = MEASURES[name]
+                if measure.percent:
+                    count = int(values.sum())
+                    low, high = wilson_interval(count, len(values))
+                    cells += [_percent(count / len(values)), _interval_text(measure, low, high)]
+                else:
+                    low, high = mean_interval(values.tolist())
+                    cells += [f"{values.mean():.1f}", _interval_text(measure, low, high)]
+            lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def _success_difference_markdown(
+    results: dict[str, AgentResults],
+    pooled: dict[str, Pooled],
+    reference: str,
+    samples: int,
+) -> str:
+    lines = [
         f"| {reference} minus | success difference | 95 % CI (bootstrap over layouts and "
         "training seeds) | above it in every training seed (Wilson intervals apart) |",
         "|---|---|---|---|",
@@ -466,6 +538,44 @@ def _success_markdown(results: dict[str, AgentResults], reference: str, samples:
             f"| {agent} | {100 * diff:+.1f} pts | [{100 * low:+.1f}, {100 * high:+.1f}] "
             f"| {every_text} |"
         )
+    return "\n".join(lines) + "\n"
+
+
+def interval_sources_markdown(
+    rows: Sequence[dict[str, Any]],
+    reference: str,
+    task: str = "search",
+    samples: int = BOOTSTRAP_SAMPLES,
+) -> str:
+    """Where a difference's interval comes from: for ``reference`` against every other
+    learned agent (one trained with several seeds), each of ``task``'s measures differenced
+    with its 95 % interval over layouts and training seeds (``difference``), beside the
+    interval over the layouts alone with these training seeds held (what more test layouts
+    would narrow; the rest is the seeds', which only more training seeds narrow)."""
+    if task not in TASK_MEASURES:
+        raise ValueError(f"task must be one of {sorted(TASK_MEASURES)}, got {task!r}")
+    results = agent_results(rows)
+    if reference not in results:
+        raise ValueError(f"reference must be one of {sorted(results)}, got {reference!r}")
+    lines = [
+        f"| {reference} minus | measure | difference | 95 % CI, layouts and training seeds "
+        "| 95 % CI, layouts alone (these training seeds) |",
+        "|---|---|---|---|---|",
+    ]
+    for agent, other in results.items():
+        if agent == reference or len(other.training_seeds) < 2:
+            continue
+        for name in TASK_MEASURES[task]:
+            measure = MEASURES[name]
+            diff, low, high = difference(results[reference], other, samples, name)
+            _, fixed_low, fixed_high = difference(
+                results[reference], other, samples, name, resample_seeds=False
+            )
+            lines.append(
+                f"| {agent} | {measure.label} | {_measure_text(measure, diff, True)} "
+                f"| {_interval_text(measure, low, high, True)} "
+                f"| {_interval_text(measure, fixed_low, fixed_high, True)} |"
+            )
     return "\n".join(lines) + "\n"
 
 

@@ -53,6 +53,7 @@ from tactile_search import ENV_ID, ENV_IDS
 from tactile_search._core import registered_envs
 from tactile_search._validation import as_bool
 from tactile_search.benchmark.statistics import Summary, summarize
+from tactile_search.benchmark.summary_table import MAP_TASK
 from tactile_search.envs.config import SETTINGS
 from tactile_search.seed_ranges import held_out_seeds
 
@@ -129,6 +130,14 @@ def env_id_settings(env_id: str | None) -> dict[str, Any]:
     if env_id not in ENV_IDS:
         raise ValueError(f"env_id must be one of {list(ENV_IDS)}, got {env_id!r}")
     return checked_env_settings(gymnasium.spec(env_id).kwargs)
+
+
+def evaluated_task(env_id: str | None, env_settings: Mapping[str, Any] | None = None) -> str:
+    """The task (the ``task`` setting) an evaluation on ``env_id`` with ``env_settings`` over
+    it plays: the core's default where neither sets it."""
+    settings = {**env_id_settings(env_id), **checked_env_settings(env_settings)}
+    default = next(entry["default"] for entry in SETTINGS if entry["key"] == "task")
+    return str(settings.get("task", default))
 
 
 def checked_env_settings(env_settings: Mapping[str, Any] | None) -> dict[str, Any]:
@@ -223,6 +232,7 @@ def evaluate(
         torch.set_num_threads(torch_threads)
     out = Path(out)
     seeds = evaluation_seeds(split, episodes, final)
+    task = evaluated_task(env_id, env_settings)
     made, names, fingerprints, done = prepare_evaluation(
         agent_specs, out, seeds, resume, actions, blanked, env_settings, env_id
     )
@@ -263,16 +273,17 @@ def evaluate(
                 shown.add(agent.name)
                 provenance = gif_provenance(fingerprints[spec], seeds[0], gif_steps)
                 example_gif(out, agent, env_kwargs, seeds[0], gif_steps, provenance, resume)
-            print(markdown_table(summaries[-1:]).splitlines()[-1], flush=True)
+            print(markdown_table(summaries[-1:], task).splitlines()[-1], flush=True)
     write_episodes_csv(csv_path, [row for name in names for row in ordered(name)])
-    table = markdown_table(summaries)
+    table = markdown_table(summaries, task)
     where = "" if env_id is None else f" of {env_id}"
     write_atomically(
         out / "results.md",
         f"Held-out {split} layout seeds {seeds[0]}..{seeds[-1]}{where} ({episodes} per agent)."
         f"\n\n{table}",
     )
-    plot_success(out / "success.png", summaries)
-    plot_steps(out / "steps.png", names, all_episodes)
+    if task != MAP_TASK:  # the map task has no success to plot (its scores: curves.png)
+        plot_success(out / "success.png", summaries)
+        plot_steps(out / "steps.png", names, all_episodes)
     plot_learning_curves(out / "learning_curves.png", runs)
     return summaries

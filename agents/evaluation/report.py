@@ -3,6 +3,7 @@ success and the learning curves read from each run's ``progress.csv``."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 from pathlib import Path
@@ -11,10 +12,15 @@ import numpy as np
 
 from agents.run_dir import progress_rows
 from tactile_search.benchmark.statistics import Summary
+from tactile_search.benchmark.summary_table import markdown_row, summary_cells, summary_columns
 
 
-def markdown_table(summaries: Sequence[Summary]) -> str:
-    """The results as a markdown table."""
+def markdown_table(summaries: Sequence[Summary], task: str = "search") -> str:
+    """The results as a markdown table: the search task's columns, or another task's own
+    (``summary_table``: the identify task's wrong claims, the map task's scores in place of
+    a success it does not have) beside the jars displaced and the map's IoU."""
+    if task != "search":
+        return _task_table(summaries, task)
     lines = [
         "| agent | map | episodes | success | 95 % CI | steps to success, median [Q1, Q3] "
         "| jar displacement (mm, sum over jars) | in successful episodes (mm) "
@@ -28,7 +34,6 @@ def markdown_table(summaries: Sequence[Summary]) -> str:
             if math.isnan(s.steps_median)
             else f"{s.steps_median:.0f} [{s.steps_q1:.0f}, {s.steps_q3:.0f}]"
         )
-        iou = "-" if s.map_mode == "none" else f"{s.iou:.3f}"
         in_successes = (
             "-" if math.isnan(s.success_displacement_mm) else f"{s.success_displacement_mm:.1f}"
         )
@@ -37,8 +42,37 @@ def markdown_table(summaries: Sequence[Summary]) -> str:
             f"| [{s.success_low:.1%}, {s.success_high:.1%}] | {steps} "
             f"| {s.displacement_mm:.1f} | {in_successes} | {s.max_displacement_mm:.1f} "
             f"| {s.tip_rate:.1%} "
-            f"| {iou} |"
+            f"| {_iou_text(s)} |"
         )
+    return "\n".join(lines) + "\n"
+
+
+def _iou_text(summary: Summary) -> str:
+    return "-" if summary.map_mode == "none" else f"{summary.iou:.3f}"
+
+
+def _task_table(summaries: Sequence[Summary], task: str) -> str:
+    columns = [
+        "agent",
+        "map",
+        "episodes",
+        *summary_columns(task),
+        "jar displacement (mm, sum over jars)",
+        "largest jar displacement (mm)",
+        "final map IoU (the map's own reading)",
+    ]
+    lines = [markdown_row(columns), "|" + "---|" * len(columns)]
+    for s in summaries:
+        cells = [
+            s.agent,
+            s.map_mode,
+            str(s.episodes),
+            *summary_cells(task, dataclasses.asdict(s)),
+            f"{s.displacement_mm:.1f}",
+            f"{s.max_displacement_mm:.1f}",
+            _iou_text(s),
+        ]
+        lines.append(markdown_row(cells))
     return "\n".join(lines) + "\n"
 
 

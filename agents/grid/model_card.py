@@ -7,8 +7,10 @@ the registered id and its task, the map, the algorithm and its recipe (the entry
 ``agents/hyperparams/<algo>.yml`` under the id and map, and whether the recorded recipe is
 still that entry), the command that trains it again, the training seed, timesteps and
 wall-clock, the machine and code, the digest, the versions (``config.yml``), and the
-evaluation on each registered id whose results hold rows of the run (the run's agent name in
-``<results>/<id's name>/episodes.csv``, summarised by ``tactile_search.benchmark``). The same
+evaluation on each registered id of its task whose results hold rows of the run (the run's
+agent name in ``<results>/<id's name>/episodes.csv``, summarised by
+``tactile_search.benchmark``; a name says the agent and seed, not the task it learned, so
+another task's rows are never read). The same
 run and rows give the same bytes.
 """
 
@@ -101,11 +103,15 @@ def split_of(seeds: Sequence[int]) -> str:
 
 
 def evaluation_sections(config: dict[str, Any], results: Path) -> list[str]:
-    """For each registered id (the run's own first) whose ``episodes.csv`` under
-    ``results`` holds rows of the run: which rows, on which layouts, and their summary."""
+    """For each registered id of the task the run was trained on (its own id first: the
+    tiers the grid plays it on) whose ``episodes.csv`` under ``results`` holds rows of the
+    run: which rows, on which layouts, and their summary. Another task's evaluation is not
+    read: its rows of the same name are another task's runs'."""
     trained_on = config.get("env_id", ENV_ID)
+    task = task_of(trained_on)
+    tiers = [i for i in ENV_IDS if i != trained_on and task_of(i) == task]
     lines: list[str] = []
-    for env_id in [trained_on, *(i for i in ENV_IDS if i != trained_on)]:
+    for env_id in [trained_on, *tiers]:
         csv_path = results / task_folder(env_id) / EPISODES_FILE
         rows, _ = read_episodes_csv(csv_path)
         found = [
@@ -116,7 +122,6 @@ def evaluation_sections(config: dict[str, Any], results: Path) -> list[str]:
         if not found:
             continue
         name, mine = found[0]
-        task = task_of(env_id)
         seeds = sorted(row["seed"] for row in mine)
         summary = dataclasses.asdict(summarize(name, config["map"], mine))
         header = ["layouts", *summary_columns(task)]

@@ -47,6 +47,7 @@ from agents.grid.model_card import write_model_cards
 from agents.grid.results_doc import (
     TaskResults,
     gap_change_markdown,
+    interval_sources_text,
     results_markdown,
     task_results_markdown,
     write_results,
@@ -178,7 +179,7 @@ def run_budget(
         if task.trained_on is None:  # the record of each run beside its results (models stay out)
             for run_dir in task_runs:
                 copy_record(run_dir, results / "training" / run_dir.name)
-        outcomes.append(TaskResults(task, task_runs, results, markdown_table(summaries)))
+        outcomes.append(TaskResults(task, task_runs, results, markdown_table(summaries, task.task)))
     # Each trained run's card (its evaluations on every task) and its model's digest record.
     write_model_cards(run_dirs, budget.results)
     return outcomes
@@ -214,6 +215,8 @@ def run(
         task = outcome.task
         rows, _ = read_episodes_csv(outcome.results / "episodes.csv")
         comparison = comparison_markdown(rows, reference=task.reference_agent(), task=task.task)
+        if task.env_id != ENV_ID:  # a new task's section (v0's stays as it was published)
+            comparison += "\n" + interval_sources_text(rows, task)
         if task.trained_on is not None:  # a dense tier: how the no-map gap changes (H3)
             default = by_id[task.trained_on]
             default_rows, _ = read_episodes_csv(default.results / "episodes.csv")

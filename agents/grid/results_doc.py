@@ -9,10 +9,16 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from agents.evaluation.comparison import BOOTSTRAP_SAMPLES, agent_results, gap_change
+from agents.evaluation.comparison import (
+    BOOTSTRAP_SAMPLES,
+    agent_results,
+    gap_change,
+    interval_sources_markdown,
+)
 from agents.grid.budgets import Budget, Task
 from agents.run_dir import clone_dir, read_run_config, recorded_config, task_folder
 from agents.sb3.learned import learned_agent_name
+from tactile_search.benchmark.summary_table import MAP_TASK
 from tactile_search.seed_ranges import held_out_seeds
 
 
@@ -195,17 +201,43 @@ def task_results_markdown(budget: Budget, outcome: TaskResults, comparison: str)
         f'"{task.reference_agent()}"`):',
         "",
         comparison,
-        "Success against the wrist motions spent (or the map task's scores), every agent with "
-        "its 95 % interval:",
-        "",
-        f"![curves](results/{folder}/curves.png)",
-        "",
-        f"![success](results/{folder}/success.png)",
-        "",
-        f"![steps](results/{folder}/steps.png)",
-        "",
     ]
+    if task.task == MAP_TASK:
+        lines += [
+            "The map's distance to the true outlines against the wrist motions spent, every "
+            "agent with its 95 % interval:",
+            "",
+            f"![curves](results/{folder}/curves.png)",
+            "",
+        ]
+    else:
+        lines += [
+            "Success against the wrist motions spent, every agent with its 95 % interval:",
+            "",
+            f"![curves](results/{folder}/curves.png)",
+            "",
+            f"![success](results/{folder}/success.png)",
+            "",
+            f"![steps](results/{folder}/steps.png)",
+            "",
+        ]
     return "\n".join(lines)
+
+
+def interval_sources_text(
+    rows: Sequence[dict[str, Any]], task: Task, samples: int = BOOTSTRAP_SAMPLES
+) -> str:
+    """A task section's table of where each difference's interval comes from
+    (``interval_sources_markdown``), with the sentence that reads it."""
+    folder = task_folder(task.env_id)
+    return (
+        "Where each difference's interval comes from: over test layouts and training seeds "
+        "(as above), beside over the layouts alone with these training seeds held (`python "
+        f"-m agents.comparison docs/results/{folder}/episodes.csv --task {task.task} "
+        f'--reference "{task.reference_agent()}" --sources`). More layouts narrow the second; '
+        "what the first adds is the training seeds' spread, which only more seeds narrow.\n\n"
+        + interval_sources_markdown(rows, task.reference_agent(), task.task, samples)
+    )
 
 
 #: The agents whose gap to the GPIS agent the dense tier's section follows (H3: the no-map
