@@ -39,6 +39,7 @@ from agents.evaluation.episodes_csv import ADDED_COLUMNS
 from agents.sb3.learned import learned_agent_name
 from tactile_search.benchmark.map_curve import parse_map_curve
 from tactile_search.benchmark.statistics import mean_interval, wilson_interval
+from tactile_search.envs.config import markdown_table
 
 # The form of agents.evaluation.agent_specs.seeded_name, with the suffixes of a blanked map
 # (agents.evaluation.map_ablation) and of changed env settings (agents.evaluation.evaluation)
@@ -429,12 +430,7 @@ def comparison_markdown(
     against every other agent, as markdown; then each of the task's measures other than
     success pooled and differenced (``measure_markdown``). The map task, which has no
     success, shows none."""
-    if task not in TASK_MEASURES:
-        raise ValueError(f"task must be one of {sorted(TASK_MEASURES)}, got {task!r}")
-    results = agent_results(rows)
-    reference = reference or next(iter(results))
-    if reference not in results:
-        raise ValueError(f"reference must be one of {sorted(results)}, got {reference!r}")
+    results, reference = _checked_results(rows, reference, task)
     measures = TASK_MEASURES[task]
     has_success = "success" in measures
     pooled = {agent: pool(r, samples) for agent, r in results.items()}
@@ -447,6 +443,20 @@ def comparison_markdown(
         if name != "success"
     ]
     return "\n".join(parts)
+
+
+def _checked_results(
+    rows: Sequence[dict[str, Any]], reference: str | None, task: str
+) -> tuple[dict[str, AgentResults], str]:
+    """``rows``' results by agent and the reference agent (default: the first), or
+    ``ValueError`` naming an unknown ``task`` or ``reference``."""
+    if task not in TASK_MEASURES:
+        raise ValueError(f"task must be one of {sorted(TASK_MEASURES)}, got {task!r}")
+    results = agent_results(rows)
+    reference = reference or next(iter(results))
+    if reference not in results:
+        raise ValueError(f"reference must be one of {sorted(results)}, got {reference!r}")
+    return results, reference
 
 
 def _pooled_markdown(pooled: dict[str, Pooled], has_success: bool) -> str:
@@ -465,7 +475,7 @@ def _pooled_markdown(pooled: dict[str, Pooled], has_success: bool) -> str:
         "jar displacement (mm per episode)",
         "wrist motions per action",
     ]
-    lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
+    rows = []
     for p in pooled.values():
         seeds = ", ".join(_seed_text(s) for s in p.training_seeds)
         success_cells = (
@@ -478,17 +488,18 @@ def _pooled_markdown(pooled: dict[str, Pooled], has_success: bool) -> str:
             else []
         )
         ending_cells = [_percent(p.tip_rate)] + ([_percent(p.timeout_rate)] if has_success else [])
-        cells = [
-            p.agent,
-            seeds,
-            str(p.episodes),
-            *success_cells,
-            *ending_cells,
-            f"{p.displacement_mm:.1f}",
-            f"{p.motions_per_action:.1f}",
-        ]
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines) + "\n"
+        rows.append(
+            [
+                p.agent,
+                seeds,
+                str(p.episodes),
+                *success_cells,
+                *ending_cells,
+                f"{p.displacement_mm:.1f}",
+                f"{p.motions_per_action:.1f}",
+            ]
+        )
+    return markdown_table(columns, rows) + "\n"
 
 
 def _per_seed_markdown(results: dict[str, AgentResults], measures: Sequence[str]) -> str:
@@ -499,7 +510,7 @@ def _per_seed_markdown(results: dict[str, AgentResults], measures: Sequence[str]
         label = MEASURES[name].label
         kind = "Wilson" if MEASURES[name].percent else "over layouts"
         header += [label, f"95 % CI ({kind})"]
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    rows = []
     for agent, r in results.items():
         for index, seed in enumerate(r.training_seeds):
             cells = [agent, _seed_text(seed)]
@@ -513,8 +524,8 @@ def _per_seed_markdown(results: dict[str, AgentResults], measures: Sequence[str]
                 else:
                     low, high = mean_interval(values.tolist())
                     cells += [f"{values.mean():.1f}", _interval_text(measure, low, high)]
-            lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines) + "\n"
+            rows.append(cells)
+    return markdown_table(header, rows) + "\n"
 
 
 def _success_difference_markdown(
@@ -552,11 +563,7 @@ def interval_sources_markdown(
     with its 95 % interval over layouts and training seeds (``difference``), beside the
     interval over the layouts alone with these training seeds held (what more test layouts
     would narrow; the rest is the seeds', which only more training seeds narrow)."""
-    if task not in TASK_MEASURES:
-        raise ValueError(f"task must be one of {sorted(TASK_MEASURES)}, got {task!r}")
-    results = agent_results(rows)
-    if reference not in results:
-        raise ValueError(f"reference must be one of {sorted(results)}, got {reference!r}")
+    results, reference = _checked_results(rows, reference, task)
     lines = [
         f"| {reference} minus | measure | difference | 95 % CI, layouts and training seeds "
         "| 95 % CI, layouts alone (these training seeds) |",

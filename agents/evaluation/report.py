@@ -12,7 +12,8 @@ import numpy as np
 
 from agents.run_dir import progress_rows
 from tactile_search.benchmark.statistics import Summary
-from tactile_search.benchmark.summary_table import markdown_row, summary_cells, summary_columns
+from tactile_search.benchmark.summary_table import summary_cells, summary_columns
+from tactile_search.envs.config import markdown_table as config_markdown_table
 
 
 def markdown_table(summaries: Sequence[Summary], task: str = "search") -> str:
@@ -61,9 +62,8 @@ def _task_table(summaries: Sequence[Summary], task: str) -> str:
         "largest jar displacement (mm)",
         "final map IoU (the map's own reading)",
     ]
-    lines = [markdown_row(columns), "|" + "---|" * len(columns)]
-    for s in summaries:
-        cells = [
+    rows = [
+        [
             s.agent,
             s.map_mode,
             str(s.episodes),
@@ -72,8 +72,9 @@ def _task_table(summaries: Sequence[Summary], task: str) -> str:
             f"{s.max_displacement_mm:.1f}",
             _iou_text(s),
         ]
-        lines.append(markdown_row(cells))
-    return "\n".join(lines) + "\n"
+        for s in summaries
+    ]
+    return config_markdown_table(columns, rows) + "\n"
 
 
 def plot_success(path: Path, summaries: Sequence[Summary]) -> None:
